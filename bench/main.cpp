@@ -1,0 +1,19 @@
+// Benchmark main: Kokkos lives for the whole run; the context records what ran.
+#include <benchmark/benchmark.h>
+
+#include <Kokkos_Core.hpp>
+#include <mpmice/kernels/version.hpp>
+
+int main(int argc, char* argv[]) {
+  Kokkos::ScopeGuard kokkos(argc, argv);
+  benchmark::AddCustomContext("mpmice", MPMICE_VERSION_STRING);
+  benchmark::AddCustomContext("git", MPMICE_GIT_REVISION);
+  benchmark::AddCustomContext("kokkos_execution_space", Kokkos::DefaultExecutionSpace::name());
+  benchmark::AddCustomContext("kokkos_threads",
+                              std::to_string(Kokkos::DefaultExecutionSpace().concurrency()));
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,166 @@
+#include <mpmice/halo/halo.hpp>
+
+#include <string>
+
+#include <mpmice/kernels/errors.hpp>
+
+namespace mpmice {
+namespace {
+
+using Field4U = Halo::Field4U;
+
+// A slab of a 4D field: materials [0, nm) times an index box.
+struct Slab {
+  int nm = 0;
+  IndexBox box;
+  long size() const { return long(nm) * box.size(); }
+};
+
+// Pack the slab of `f` into `buf` (m, i, j, k order, k fastest).
+void pack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf) {
+  const IndexBox b = s.box;
+  const int ni = b.extent(0), nj = b.extent(1), nk = b.extent(2);
+  Kokkos::parallel_for(
+      "mpmice::halo_pack",
+      Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<4>>({0, b.lo[0], b.lo[1], b.lo[2]},
+                                                        {s.nm, b.hi[0], b.hi[1], b.hi[2]}),
+      KOKKOS_LAMBDA(int m, int i, int j, int k) {
+        const long n = ((long(m) * ni + (i - b.lo[0])) * nj + (j - b.lo[1])) * nk + (k - b.lo[2]);
+        buf(n) = f(m, i, j, k);
+      });
+}
+
+// Unpack `buf` into the slab of `f`, replacing (fill) or adding (reverse sum).
+void unpack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf,
+            bool add) {
+  const IndexBox b = s.box;
+  const int ni = b.extent(0), nj = b.extent(1), nk = b.extent(2);
+  Kokkos::parallel_for(
+      "mpmice::halo_unpack",
+      Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<4>>({0, b.lo[0], b.lo[1], b.lo[2]},
+                                                        {s.nm, b.hi[0], b.hi[1], b.hi[2]}),
+      KOKKOS_LAMBDA(int m, int i, int j, int k) {
+        const long n = ((long(m) * ni + (i - b.lo[0])) * nj + (j - b.lo[1])) * nk + (k - b.lo[2]);
+        if (add)
+          f(m, i, j, k) += buf(n);
+        else
+          f(m, i, j, k) = buf(n);
+      });
+}
+
+void ensure_size(Kokkos::View<double*, MemSpace>& v, long n) {
+  if (long(v.extent(0)) < n) v = Kokkos::View<double*, MemSpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mpmice::halo_buffer"), n);
+}
+
+Field4U as_field4(const Field3& f) {
+  if (!f.span_is_contiguous())
+    throw std::logic_error("mpmice::Halo: a material-independent field must be contiguous");
+  return Field4U(f.data(), 1, f.extent(0), f.extent(1), f.extent(2));
+}
+
+}  // namespace
+
+void Halo::fill(const Field4& field, Location loc, int depth) {
+  exchange(field, loc, depth, false);
+}
+void Halo::fill(const Field3& field, Location loc, int depth) {
+  exchange(as_field4(field), loc, depth, false);
+}
+void Halo::sum_into_owned(const Field4& field, Location loc, int depth) {
+  exchange(field, loc, depth, true);
+}
+void Halo::sum_into_owned(const Field3& field, Location loc, int depth) {
+  exchange(as_field4(field), loc, depth, true);
+}
+
+void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
+  const Patch& p = m_decomp.patch();
+  const int G = p.ghosts;
+  if (depth < 1 || depth > G)
+    throw std::logic_error("mpmice::Halo: ghost depth " + std::to_string(depth) +
+                           " outside 1.." + std::to_string(G));
+  for (int d = 0; d < 3; ++d)
+    if (int(f.extent(d + 1)) != p.extent(loc, d))
+      throw std::logic_error("mpmice::Halo: field '" + f.label() +
+                             "' does not have the extents of its location on this patch");
+  const int nm = f.extent(0);
+
+  for (int d = 0; d < 3; ++d) {
+    const int low = m_decomp.neighbor(d == 0 ? -1 : 0, d == 1 ? -1 : 0, d == 2 ? -1 : 0);
+    const int high = m_decomp.neighbor(d == 0 ? 1 : 0, d == 1 ? 1 : 0, d == 2 ? 1 : 0);
+    if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) continue;
+
+    // Extents in the other directions. Fill: directions already swept carry their
+    // ghosts, later ones only their interior. Reverse: the other way round.
+    Slab base;
+    base.nm = nm;
+    for (int e = 0; e < 3; ++e) {
+      if (e == d) continue;
+      const int nl = on_cell_boundary(loc, e) ? 1 : 0;
+      const bool with_ghosts = reverse ? (e > d) : (e < d);
+      if (with_ghosts) {
+        base.box.lo[e] = G - depth;
+        base.box.hi[e] = G + p.owned_cells(e) + nl + depth;
+      } else {
+        base.box.lo[e] = G;
+        base.box.hi[e] = G + p.owned_cells(e) + (reverse ? (nl && p.owns_high_boundary[e]) : nl);
+      }
+    }
+    const int n = p.owned_cells(d);
+    const int nl = on_cell_boundary(loc, d) ? 1 : 0;
+    // side 0: toward the low neighbour, side 1: toward the high neighbour.
+    // Owned layers a neighbour needs, and the ghost layers that mirror them.
+    Slab owned_for[2] = {base, base}, ghost_of[2] = {base, base};
+    owned_for[0].box.lo[d] = G;                 owned_for[0].box.hi[d] = G + depth + nl;
+    owned_for[1].box.lo[d] = G + n - depth;     owned_for[1].box.hi[d] = G + n;
+    ghost_of[0].box.lo[d] = G - depth;          ghost_of[0].box.hi[d] = G;
+    ghost_of[1].box.lo[d] = G + n;              ghost_of[1].box.hi[d] = G + n + depth + nl;
+    // Fill sends owned layers and receives into ghosts; reverse sends ghost layers and
+    // adds them into the owned layers they shadow.
+    const Slab* send_slab = reverse ? ghost_of : owned_for;
+    const Slab* recv_slab = reverse ? owned_for : ghost_of;
+    const int to[2] = {low, high};
+    // Side s sends to neighbour to[s]; what arrives from to[s] lands on side s. The
+    // tag says which side of the receiver a message is for, so that one rank that is
+    // both neighbours (two ranks, periodic) keeps the two messages apart.
+    const int tag_base = 7100 + 4 * d;
+    MPI_Request req[4];
+    int nreq = 0;
+    for (int s = 0; s < 2; ++s) {
+      ensure_size(m_send[s], send_slab[s].size());
+      ensure_size(m_recv[s], recv_slab[s].size());
+    }
+    for (int s = 0; s < 2; ++s) {
+      if (to[s] == MPI_PROC_NULL || to[s] == m_decomp.rank()) continue;
+      MPI_Irecv(m_recv[s].data(), int(recv_slab[s].size()), MPI_DOUBLE, to[s], tag_base + s,
+                m_decomp.comm(), &req[nreq++]);
+    }
+    for (int s = 0; s < 2; ++s) {
+      if (to[s] == MPI_PROC_NULL) continue;
+      pack(f, send_slab[s], m_send[s]);
+    }
+    Kokkos::fence();
+    for (int s = 0; s < 2; ++s) {
+      if (to[s] == MPI_PROC_NULL) continue;
+      if (to[s] == m_decomp.rank()) {
+        // Periodic, one rank across: what side s sends arrives on side 1-s.
+        Kokkos::deep_copy(Kokkos::subview(m_recv[1 - s], std::make_pair(0L, send_slab[s].size())),
+                          Kokkos::subview(m_send[s], std::make_pair(0L, send_slab[s].size())));
+        continue;
+      }
+      // A message sent toward side s arrives on the receiver's side 1-s.
+      MPI_Isend(m_send[s].data(), int(send_slab[s].size()), MPI_DOUBLE, to[s], tag_base + (1 - s),
+                m_decomp.comm(), &req[nreq++]);
+      m_bytes_sent += 8.0 * send_slab[s].size();
+    }
+    MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+    for (int s = 0; s < 2; ++s) {
+      if (to[s] == MPI_PROC_NULL) continue;
+      unpack(f, recv_slab[s], m_recv[s], reverse);
+    }
+    Kokkos::fence();
+  }
+}
+
+}  // namespace mpmice

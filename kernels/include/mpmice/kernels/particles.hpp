@@ -1,0 +1,82 @@
+#pragma once
+/// \file particles.hpp
+/// \brief ParticleSet: the particles of one MPM material as a structure of arrays.
+///
+/// Every double component is one contiguous column of a LayoutLeft 2D view, so
+/// `p.get(ParticleField::vx)` is a plain 1D view of all particles' x-velocities
+/// and generic code (migration, sorting, output) can loop over the components.
+/// Units: SI (m, m/s, kg, m^3, K, Pa).
+#include <cstdint>
+#include <string>
+#include <mpmice/kernels/types.hpp>
+
+namespace mpmice {
+
+/// The particle components (mpmice-algorithm.md section 1.6).
+enum class ParticleField : int {
+  x, y, z,                      ///< position, m
+  vx, vy, vz,                   ///< velocity, m/s
+  mass,                         ///< kg
+  volume,                       ///< m^3
+  temperature,                  ///< K
+  size_x, size_y, size_z,       ///< extent / cell size (1/res_d at creation)
+  F00, F01, F02, F10, F11, F12, F20, F21, F22,  ///< deformation gradient
+  s00, s01, s02, s10, s11, s12, s20, s21, s22,  ///< Cauchy stress, Pa, tension +
+  fext_x, fext_y, fext_z,       ///< external force, N
+  gas_pressure,                 ///< gauge pressure of the surrounding gas, Pa
+  bulk_viscosity,               ///< artificial bulk viscosity q, Pa
+  heating_rate,                 ///< constitutive heating rate, K/s
+  plastic_strain,               ///< equivalent plastic strain
+  count                         ///< number of components (not a component)
+};
+constexpr int particle_field_count = static_cast<int>(ParticleField::count);
+
+using ParticleData = Kokkos::View<double**, Kokkos::LayoutLeft, MemSpace>;
+using ParticleIds = Kokkos::View<std::int64_t*, MemSpace>;
+
+/// The particles of one MPM material on one patch: `size()` live particles in the
+/// first rows of views that hold `capacity()`.
+class ParticleSet {
+ public:
+  ParticleSet() = default;
+  explicit ParticleSet(const std::string& label, std::size_t capacity = 0)
+      : m_label(label),
+        m_data(label + "_data", capacity, particle_field_count),
+        m_id(label + "_id", capacity) {}
+
+  std::size_t size() const { return m_size; }
+  std::size_t capacity() const { return m_data.extent(0); }
+  const std::string& label() const { return m_label; }
+
+  /// One component of every particle (live and spare rows).
+  ParticleComponent get(ParticleField f) const {
+    return Kokkos::subview(m_data, Kokkos::ALL, static_cast<int>(f));
+  }
+  /// All components, (particle, component): for code that treats them alike.
+  const ParticleData& data() const { return m_data; }
+  /// Global particle ids (unique across ranks, kept through migration).
+  const ParticleIds& id() const { return m_id; }
+
+  /// Grow the capacity to at least n, keeping the live particles.
+  void reserve(std::size_t n) {
+    if (n <= capacity()) return;
+    std::size_t cap = capacity() + capacity() / 2;
+    if (cap < n) cap = n;
+    Kokkos::resize(m_data, cap, particle_field_count);
+    Kokkos::resize(m_id, cap);
+  }
+  /// Set the live count; grows the capacity if needed. New rows hold whatever the
+  /// caller writes into them.
+  void resize(std::size_t n) {
+    reserve(n);
+    m_size = n;
+  }
+
+ private:
+  std::string m_label;
+  ParticleData m_data;
+  ParticleIds m_id;
+  std::size_t m_size = 0;
+};
+
+}  // namespace mpmice

@@ -1,0 +1,50 @@
+#pragma once
+/// \file types.hpp
+/// \brief View aliases and index boxes shared by every kernel. Layouts are decided
+///        here once; kernels never spell a layout.
+#include <Kokkos_Core.hpp>
+
+namespace mpmice {
+
+using ExecSpace = Kokkos::DefaultExecutionSpace;
+using MemSpace = ExecSpace::memory_space;
+
+/// Per-material cell, node or face quantity, indexed (material, i, j, k).
+using Field4 = Kokkos::View<double****, MemSpace>;
+/// Material-independent cell, node or face quantity, indexed (i, j, k).
+using Field3 = Kokkos::View<double***, MemSpace>;
+/// One particle component (structure of arrays), indexed by particle.
+using ParticleComponent = Kokkos::View<double*, Kokkos::LayoutLeft, MemSpace>;
+
+/// Where a grid quantity lives. A field's location decides its extents and which
+/// of its entries the halo exchanges.
+enum class Location { cell, node, x_face, y_face, z_face };
+
+/// True if `loc` has a point on the boundary plane normal to direction `d`
+/// (nodes in every direction, x-faces in x, ...): such quantities have one more
+/// entry than cells in that direction.
+KOKKOS_INLINE_FUNCTION constexpr bool on_cell_boundary(Location loc, int d) {
+  return loc == Location::node || (loc == Location::x_face && d == 0) ||
+         (loc == Location::y_face && d == 1) || (loc == Location::z_face && d == 2);
+}
+
+/// A half-open box of local indices [lo, hi) in three directions.
+struct IndexBox {
+  int lo[3] = {0, 0, 0};
+  int hi[3] = {0, 0, 0};
+
+  KOKKOS_INLINE_FUNCTION int extent(int d) const { return hi[d] > lo[d] ? hi[d] - lo[d] : 0; }
+  KOKKOS_INLINE_FUNCTION long size() const {
+    return long(extent(0)) * extent(1) * extent(2);
+  }
+  KOKKOS_INLINE_FUNCTION bool contains(int i, int j, int k) const {
+    return i >= lo[0] && i < hi[0] && j >= lo[1] && j < hi[1] && k >= lo[2] && k < hi[2];
+  }
+  /// MDRange policy over the box, (i, j, k) with k fastest.
+  Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3>> policy() const {
+    return Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3>>({lo[0], lo[1], lo[2]},
+                                                              {hi[0], hi[1], hi[2]});
+  }
+};
+
+}  // namespace mpmice

@@ -1,0 +1,35 @@
+// mpmice: the MPM-ICE mini-app. MPI and Kokkos live for the whole run; everything
+// else is in cli.cpp.
+#include <mpi.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include <Kokkos_Core.hpp>
+
+#include "cli.hpp"
+
+int main(int argc, char* argv[]) {
+  MPI_Init(&argc, &argv);
+  // The OpenMP runtime has read its environment already; an unset OMP_PROC_BIND
+  // means no binding. Saying so explicitly keeps Kokkos from warning about it on
+  // every run. A user's own setting is kept.
+  setenv("OMP_PROC_BIND", "false", /*overwrite=*/0);
+  // Kokkos gets only its --kokkos-* options (it would also take --help for itself);
+  // the command line parser gets the rest.
+  std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
+  for (int i = 1; i < argc; ++i)
+    (std::strncmp(argv[i], "--kokkos-", 9) == 0 ? kokkos_args : app_args).push_back(argv[i]);
+  int kokkos_argc = int(kokkos_args.size()), app_argc = int(app_args.size());
+  kokkos_args.push_back(nullptr);
+  app_args.push_back(nullptr);
+
+  int status = 0;
+  {
+    Kokkos::ScopeGuard kokkos(kokkos_argc, kokkos_args.data());
+    status = mpmice::run_cli(app_argc, app_args.data());
+  }
+  MPI_Finalize();
+  return status;
+}
