@@ -97,6 +97,7 @@ Decomposition::Decomposition(MPI_Comm comm, const Grid& grid, const Decompositio
     m_patch.lo[d] = block_start(d, m_coords[d]);
     m_patch.hi[d] = block_start(d, m_coords[d] + 1);
     m_patch.owns_high_boundary[d] = !m_periodic[d] && m_coords[d] == m_dims[d] - 1;
+    m_patch.periodic[d] = m_periodic[d];
   }
 
   std::set<int> distinct;

@@ -1,5 +1,6 @@
 #include <mpmice/halo/halo.hpp>
 
+#include <algorithm>
 #include <string>
 
 #include <mpmice/kernels/errors.hpp>
@@ -92,9 +93,13 @@ void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
     if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) continue;
 
     // Extents in the other directions. Fill: directions already swept carry their
-    // ghosts, later ones only their interior. Reverse: the other way round.
+    // ghosts; later ones their interior and the extra layers beyond a domain boundary
+    // (boundary values the owner computed, which no later sweep would bring).
+    // Reverse: directions not yet swept carry their ghosts, the others only what is
+    // owned.
     Slab base;
     base.nm = nm;
+    const IndexBox computed = p.with_extra(loc, depth);
     for (int e = 0; e < 3; ++e) {
       if (e == d) continue;
       const int nl = on_cell_boundary(loc, e) ? 1 : 0;
@@ -102,9 +107,12 @@ void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
       if (with_ghosts) {
         base.box.lo[e] = G - depth;
         base.box.hi[e] = G + p.owned_cells(e) + nl + depth;
-      } else {
+      } else if (reverse) {
         base.box.lo[e] = G;
-        base.box.hi[e] = G + p.owned_cells(e) + (reverse ? (nl && p.owns_high_boundary[e]) : nl);
+        base.box.hi[e] = G + p.owned_cells(e) + (nl && p.owns_high_boundary[e]);
+      } else {
+        base.box.lo[e] = computed.lo[e];
+        base.box.hi[e] = std::max(computed.hi[e], G + p.owned_cells(e) + nl);
       }
     }
     const int n = p.owned_cells(d);

@@ -18,8 +18,8 @@ constexpr double sentinel = -12345.0;
 const Location all_locations[] = {Location::cell, Location::node, Location::x_face,
                                   Location::y_face, Location::z_face};
 
-// Global entry index g in direction d, wrapped if periodic; -1 if outside a
-// non-periodic domain.
+// For the reverse sum: global entry g in direction d, wrapped if periodic, -1 beyond a
+// non-periodic boundary (contributions there belong to no patch).
 int wrap(int g, int d, Location loc, const Decomposition& dec) {
   const int n = dec.grid().cells[d];
   if (dec.periodic()[d]) return ((g % n) + n) % n;
@@ -27,42 +27,57 @@ int wrap(int g, int d, Location loc, const Decomposition& dec) {
   return (g < 0 || g > last) ? -1 : g;
 }
 
-// An exactly representable value unique to (material, global entry).
+// An exactly representable value unique to (material, global entry), also for
+// entries beyond the domain (indices -G..N+G).
 double analytic(int m, int gi, int gj, int gk) {
   return 1.0 + 0.5 * m + 4.0 * gi + 256.0 * gj + 65536.0 * gk;
 }
 
-// Set owned entries to the analytic value, everything else to the sentinel.
-void set_owned(const Field4& f, const Patch& p, Location loc) {
-  const IndexBox own = p.owned(loc);
+// The analytic value of local entry (i,j,k): periodic indices wrapped, others as
+// they are (beyond a non-periodic boundary they name extra cells).
+double value_at(const Decomposition& dec, int m, int i, int j, int k) {
+  const Patch& p = dec.patch();
+  const int l[3] = {i, j, k};
+  int g[3];
+  for (int d = 0; d < 3; ++d) {
+    const int n = dec.grid().cells[d];
+    g[d] = p.global_index(l[d], d);
+    if (dec.periodic()[d]) g[d] = ((g[d] % n) + n) % n;
+  }
+  return analytic(m, g[0], g[1], g[2]);
+}
+
+// What a patch computes itself: owned entries and, beyond a non-periodic domain
+// boundary, the extra layers its boundary conditions fill.
+IndexBox computed(const Patch& p, Location loc) { return p.with_extra(loc, p.ghosts); }
+
+// Set the computed entries to the analytic value, everything else to the sentinel.
+void set_owned(const Field4& f, const Decomposition& dec, Location loc) {
+  const IndexBox own = computed(dec.patch(), loc);
   auto h = Kokkos::create_mirror_view(f);
   for (int m = 0; m < int(f.extent(0)); ++m)
     for (int i = 0; i < int(f.extent(1)); ++i)
       for (int j = 0; j < int(f.extent(2)); ++j)
         for (int k = 0; k < int(f.extent(3)); ++k)
-          h(m, i, j, k) = own.contains(i, j, k)
-                              ? analytic(m, p.global_index(i, 0), p.global_index(j, 1),
-                                         p.global_index(k, 2))
-                              : sentinel;
+          h(m, i, j, k) = own.contains(i, j, k) ? value_at(dec, m, i, j, k) : sentinel;
   Kokkos::deep_copy(f, h);
 }
 
-// Every entry within `depth` of the patch that maps to a domain entry must hold its
-// analytic value; every other entry must be untouched.
+// Every entry within `depth` of the patch must hold its analytic value: ghosts from
+// the neighbours, periodic images, and the extra cells beyond the domain that the
+// neighbours' boundary conditions filled (edges and corners included). Every other
+// entry must be untouched.
 int count_wrong(const Field4& f, const Decomposition& dec, Location loc, int depth) {
   const Patch& p = dec.patch();
-  const IndexBox reach = p.ghosted(loc, depth);
+  const IndexBox reach = p.ghosted(loc, depth), own = computed(p, loc);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
   int wrong = 0;
   for (int m = 0; m < int(f.extent(0)); ++m)
     for (int i = 0; i < int(f.extent(1)); ++i)
       for (int j = 0; j < int(f.extent(2)); ++j)
         for (int k = 0; k < int(f.extent(3)); ++k) {
-          const int gi = wrap(p.global_index(i, 0), 0, loc, dec);
-          const int gj = wrap(p.global_index(j, 1), 1, loc, dec);
-          const int gk = wrap(p.global_index(k, 2), 2, loc, dec);
-          const bool filled = reach.contains(i, j, k) && gi >= 0 && gj >= 0 && gk >= 0;
-          const double want = filled ? analytic(m, gi, gj, gk) : sentinel;
+          const bool filled = reach.contains(i, j, k) || own.contains(i, j, k);
+          const double want = filled ? value_at(dec, m, i, j, k) : sentinel;
           if (h(m, i, j, k) != want) ++wrong;
         }
   return wrong;
@@ -87,14 +102,14 @@ TEST_P(Exchange, FillsEveryGhostExactly) {
   for (Location loc : all_locations)
     for (int depth : {1, 2}) {
       Field4 f = make_field("f", dec.patch(), loc, 2);
-      set_owned(f, dec.patch(), loc);
+      set_owned(f, dec, loc);
       halo.fill(f, loc, depth);
       EXPECT_EQ(count_wrong(f, dec, loc, depth), 0)
           << "location " << int(loc) << " depth " << depth << " rank " << dec.rank();
       // A material-independent field goes through the same path.
       Field3 s = make_field("s", dec.patch(), loc);
       Field4 s4(s.data(), 1, s.extent(0), s.extent(1), s.extent(2));
-      set_owned(s4, dec.patch(), loc);
+      set_owned(s4, dec, loc);
       halo.fill(s, loc, depth);
       EXPECT_EQ(count_wrong(s4, dec, loc, depth), 0) << "shared field, location " << int(loc);
     }

@@ -4,7 +4,8 @@
 ///
 /// `fill` copies owned values into the neighbours' ghost layers (including edges and
 /// corners, by sweeping x, then y, then z, each sweep carrying the ghosts already
-/// filled). `sum_into_owned` is its reverse: values accumulated in ghost layers (a
+/// filled, and the extra layers that the owner's boundary conditions filled beyond a
+/// domain boundary). `sum_into_owned` is its reverse: values accumulated in ghost layers (a
 /// particle-to-grid scatter) are added to the owning patch, and the ghost layers are
 /// then stale. Ghosts beyond a non-periodic domain boundary are left to the boundary
 /// conditions. Periodic directions with one rank across copy locally.

@@ -39,6 +39,8 @@ struct Patch {
   /// True where the patch's high side is a non-periodic domain boundary: the last
   /// node-like layer there is owned by this patch.
   std::array<bool, 3> owns_high_boundary{true, true, true};
+  /// Periodic directions of the domain.
+  std::array<bool, 3> periodic{false, false, false};
 
   int owned_cells(int d) const { return hi[d] - lo[d]; }
   /// Local extent of a field at `loc` in direction d (ghosts included).
@@ -73,6 +75,25 @@ struct Patch {
   IndexBox ghosted_cells(int g) const { return ghosted(Location::cell, g); }
   IndexBox owned_nodes() const { return owned(Location::node); }
   IndexBox ghosted_nodes(int g) const { return ghosted(Location::node, g); }
+
+  /// True if side `side` (0 low, 1 high) of direction d is a non-periodic domain
+  /// boundary: its ghost layers are extra cells filled by boundary conditions.
+  bool on_domain_boundary(int d, int side) const {
+    return side == 0 ? (lo[d] == 0 && !periodic[d]) : (hi[d] == grid.cells[d] && !periodic[d]);
+  }
+  /// Owned entries plus `g` extra layers across non-periodic domain boundaries (the
+  /// ghost layers there, which the boundary conditions fill): what this patch
+  /// computes itself, Uintah's extra-cell iterator.
+  IndexBox with_extra(Location loc, int g) const {
+    IndexBox b = owned(loc);
+    for (int d = 0; d < 3; ++d) {
+      if (on_domain_boundary(d, 0)) b.lo[d] -= g;
+      if (on_domain_boundary(d, 1)) b.hi[d] += g;
+    }
+    return b;
+  }
+  /// Owned cells and all G extra-cell layers: where cell-local steps compute.
+  IndexBox cells_with_extra() const { return with_extra(Location::cell, ghosts); }
 
   /// Position of the centre of local cell (i,j,k) in direction d.
   double cell_center(int l, int d) const {

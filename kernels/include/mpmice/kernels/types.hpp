@@ -7,6 +7,10 @@
 namespace mpmice {
 
 using ExecSpace = Kokkos::DefaultExecutionSpace;
+
+/// Most materials (ICE + MPM) one run may have: per-cell solves keep their
+/// N x N systems in registers.
+constexpr int max_materials = 8;
 using MemSpace = ExecSpace::memory_space;
 
 /// Per-material cell, node or face quantity, indexed (material, i, j, k).
@@ -27,6 +31,12 @@ KOKKOS_INLINE_FUNCTION constexpr bool on_cell_boundary(Location loc, int d) {
   return loc == Location::node || (loc == Location::x_face && d == 0) ||
          (loc == Location::y_face && d == 1) || (loc == Location::z_face && d == 2);
 }
+
+/// Three components of a vector cell/face quantity, one view each.
+using VectorField4 = Kokkos::Array<Field4, 3>;
+using ConstField4 = Field4::const_type;
+using ConstField3 = Field3::const_type;
+using ConstVectorField4 = Kokkos::Array<ConstField4, 3>;
 
 /// A half-open box of local indices [lo, hi) in three directions.
 struct IndexBox {

@@ -1,0 +1,162 @@
+#pragma once
+/// \file equilibrate_pressure.hpp
+/// \brief Step 3: the single pressure at which the materials of a cell fill it,
+///        sum_r theta_r(p) = 1 (E14-E16), by Newton from last step's pressure with a
+///        bisection fallback.
+#include <cfloat>
+
+#include <mpmice/kernels/constants.hpp>
+#include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/materials.hpp>
+
+namespace mpmice {
+
+/// Inputs of the equilibration (state at t^n, extra cells filled).
+struct EquilibrationIn {
+  ConstField4 rho;     ///< bulk density rho_r, kg/m^3
+  ConstField4 temp;    ///< T_r, K
+  ConstField4 sp_vol;  ///< specific volume v_r at t^n, m^3/kg
+  ConstField3 press;   ///< p^n, Pa (first Newton guess)
+};
+
+/// Outputs (E16).
+struct EquilibrationOut {
+  Field3 press_eq;     ///< p_eq, Pa
+  Field4 vol_frac;     ///< theta_r
+  Field4 sp_vol;       ///< v_r = 1/rhoM_r at p_eq, m^3/kg
+  Field4 speed_sound;  ///< c_r, m/s
+  Field4 kappa;        ///< compressibility v_r/c_r^2, 1/Pa
+  Field3 sum_kappa;    ///< SK = sum theta_r kappa_r, 1/Pa
+  Field3 tmv;          ///< total material volume sum_r m_r/rhoM_r, m^3
+};
+
+/// Where the equilibration failed: one failing cell (local index), if any.
+struct EquilibrationFailure {
+  bool failed = false;
+  int cell[3] = {0, 0, 0};
+};
+
+namespace detail {
+
+// Residual-corrected Newton (E15); returns false if not converged.
+KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const double* temp,
+                                               const double* rho_bulk, double* rho_micro,
+                                               double* theta, double& press) {
+  const int n = mats.count;
+  for (int it = 0; it < equilibration_max_iterations; ++it) {
+    double A = 0, B = 0, C = 0;
+    for (int r = 0; r < n; ++r) {
+      const double p_r = eos_pressure(mats.eos[r], rho_micro[r], temp[r]);
+      const double dpdrho = eos_dp_drho(mats.eos[r], rho_micro[r], temp[r]);
+      const double y = theta[r] * theta[r] / (dpdrho * rho_bulk[r] + small_number);
+      A += theta[r];
+      B += (press - p_r) * y;
+      C += y;
+    }
+    const double dp = (A - 1.0 - B) / C;
+    press += dp;
+    if (press < equilibration_tolerance) press = math::abs(dp);
+    double sum = 0;
+    for (int r = 0; r < n; ++r) {
+      rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
+      theta[r] = rho_bulk[r] / rho_micro[r];
+      sum += theta[r];
+    }
+    if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
+  }
+  return false;
+}
+
+// Bisection on 1 - sum_r rhoB_r / rhoM_r(P) over [DBL_EPSILON, 1/DBL_EPSILON].
+KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, const double* temp,
+                                                  const double* rho_bulk, double* rho_micro,
+                                                  double* theta, double& press) {
+  const int n = mats.count;
+  double lo = DBL_EPSILON, hi = 1.0 / DBL_EPSILON;
+  for (int it = 0; it < 200; ++it) {
+    double sum = 0;
+    for (int r = 0; r < n; ++r) {
+      rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
+      theta[r] = rho_bulk[r] / rho_micro[r];
+      sum += theta[r];
+    }
+    if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
+    // sum theta falls as the pressure rises.
+    if (sum > 1.0)
+      lo = press;
+    else
+      hi = press;
+    press = 0.5 * (lo + hi);
+  }
+  return false;
+}
+
+}  // namespace detail
+
+/// Equilibrate every cell of `cells`; volume `cell_volume` in m^3.
+inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double cell_volume,
+                                                 const MaterialTable& mats,
+                                                 const EquilibrationIn& in,
+                                                 const EquilibrationOut& out) {
+  const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
+  long bad_cell = 0;  // 1 + linear index of a failing cell, 0 if none
+  Kokkos::parallel_reduce(
+      "mpmice::equilibrate_pressure", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, long& bad) {
+        const int n = mats.count;
+        double temp[max_materials], rho_bulk[max_materials], rho_micro[max_materials],
+            theta[max_materials];
+        // (E14): start from last step's micro densities.
+        double tmv = 0;
+        for (int r = 0; r < n; ++r) {
+          temp[r] = in.temp(r, i, j, k);
+          rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
+          theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
+          tmv += theta[r];
+        }
+        for (int r = 0; r < n; ++r) {
+          theta[r] /= tmv;
+          rho_bulk[r] = theta[r] * rho_micro[r];
+        }
+        double press = in.press(i, j, k);
+        bool ok = detail::equilibrate_newton(mats, temp, rho_bulk, rho_micro, theta, press);
+        if (!ok) {
+          press = in.press(i, j, k);
+          ok = detail::equilibrate_bisection(mats, temp, rho_bulk, rho_micro, theta, press);
+        }
+        bool sane = ok && press > 0.0 && math::isfinite(press);
+        // (E16)
+        double sum_kappa = 0, tmv_eq = 0;
+        for (int r = 0; r < n; ++r) {
+          if (!(rho_micro[r] > 0.0) || !(theta[r] >= 0.0)) sane = false;
+          const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
+          const double v = 1.0 / rho_micro[r];
+          const double kappa = v / c2;
+          out.vol_frac(r, i, j, k) = theta[r];
+          out.sp_vol(r, i, j, k) = v;
+          out.speed_sound(r, i, j, k) = math::sqrt(c2);
+          out.kappa(r, i, j, k) = kappa;
+          sum_kappa += theta[r] * kappa;
+          tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
+        }
+        out.press_eq(i, j, k) = press;
+        out.sum_kappa(i, j, k) = sum_kappa;
+        out.tmv(i, j, k) = tmv_eq;
+        if (!sane) {
+          const long id = (long(i) * nj + j) * nk + k + 1;
+          if (id > bad) bad = id;
+        }
+      },
+      Kokkos::Max<long>(bad_cell));
+  EquilibrationFailure f;
+  if (bad_cell > 0) {
+    const long id = bad_cell - 1;
+    f.failed = true;
+    f.cell[0] = int(id / (long(nj) * nk));
+    f.cell[1] = int((id / nk) % nj);
+    f.cell[2] = int(id % nk);
+  }
+  return f;
+}
+
+}  // namespace mpmice

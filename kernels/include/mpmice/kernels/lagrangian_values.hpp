@@ -1,0 +1,35 @@
+#pragma once
+/// \file lagrangian_values.hpp
+/// \brief Step 16: the ICE materials' mass, momentum and internal energy after the
+///        Lagrangian phase, before exchange (E29).
+#include <mpmice/kernels/materials.hpp>
+
+namespace mpmice {
+
+/// mL_r = rho_r V on `cells_with_extra` (advection reads the extra cells' mass).
+inline void lagrangian_mass(const IndexBox& cells_with_extra, double cell_volume, int materials,
+                            const ConstField4& rho, const Field4& mass_L) {
+  Kokkos::parallel_for(
+      "mpmice::lagrangian_mass", cells_with_extra.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < materials; ++m) mass_L(m, i, j, k) = rho(m, i, j, k) * cell_volume;
+      });
+}
+
+/// PL_r = mL_r u_r^n + Q_r, EL_r = mL_r c_v T_r^n + W_r on `cells` (E29).
+inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTable& mats,
+                                       const ConstField4& mass_L, const ConstVectorField4& vel,
+                                       const ConstField4& temp, const ConstVectorField4& mom_source,
+                                       const ConstField4& int_eng_source,
+                                       const VectorField4& mom_L, const Field4& int_eng_L) {
+  Kokkos::parallel_for(
+      "mpmice::lagrangian_momentum_energy", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < mats.count; ++m) {
+          const double mass = mass_L(m, i, j, k);
+          for (int d = 0; d < 3; ++d)
+            mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k);
+          int_eng_L(m, i, j, k) = mass * mats.eos[m].cv * temp(m, i, j, k) + int_eng_source(m, i, j, k);
+        }
+      });
+}
+
+}  // namespace mpmice

@@ -1,0 +1,45 @@
+#pragma once
+// The timestep as an ordered list of declared steps (mpmice-algorithm.md section 5,
+// the ICE materials' part). Each step names what it reads, with ghost depth, and what
+// it writes; the StepRunner refreshes ghosts and times each step.
+#include <stdexcept>
+#include <vector>
+
+#include <mpmice/halo/steps.hpp>
+#include <mpmice/kernels/advection.hpp>
+
+#include "problem.hpp"
+
+namespace mpmice {
+
+/// The step cannot be completed with this dt (an outflux slab larger than its cell,
+/// or a non-positive Lagrangian volume, E39/E32); the state at t^n is untouched, so
+/// the caller redoes it with a smaller dt.
+struct RedoStep : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Cycle {
+ public:
+  explicit Cycle(Problem& problem);
+
+  /// Advance the state from t^n to t^n + dt. Throws RedoStep or InvariantError.
+  void advance(double dt);
+  /// The acoustic timestep limit of the current state (E57), over all ranks.
+  double stable_timestep() const;
+
+  const std::vector<Step>& steps() const { return m_steps; }
+  const StepRunner& runner() const { return m_runner; }
+
+ private:
+  void build_steps();
+  Problem& m_pb;
+  StepRunner m_runner;
+  std::vector<Step> m_steps;
+  double m_dt = 0;
+  // Scratch of the advection operator (not fields of the cycle: no step shares them).
+  GradientField m_grad, m_mass_grad;
+  Field4 m_adv_mass, m_adv_q, m_ke;
+};
+
+}  // namespace mpmice

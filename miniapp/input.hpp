@@ -1,0 +1,99 @@
+#pragma once
+// The run's input, read once from YAML into plain structs (units SI). Every key is
+// declared with its type, range and default in input.cpp; unknown keys are errors.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/eos.hpp>
+
+namespace mpmice {
+
+struct GridInput {
+  std::array<double, 3> lower{0, 0, 0}, upper{1, 1, 1};  // m
+  std::array<int, 3> cells{1, 1, 1};
+  std::array<bool, 3> periodic{false, false, false};
+  std::array<int, 3> ranks{0, 0, 0};  // 0: chosen by the decomposition
+};
+
+struct TimeInput {
+  double end = 0;                // s
+  long max_steps = 1000000000L;
+  double cfl = 0.25;
+  double dt_initial = 1e-9;      // s
+  double dt_min = 1e-20;         // s
+  double dt_max = 1.0;           // s
+  double max_increase = 1.0;     // dt may grow by at most this fraction per step
+};
+
+struct IceInput {
+  bool second_order = true;
+  bool kinetic_energy_fix = true;  // advection's lost kinetic energy becomes heat
+  std::array<double, 3> gravity{0, 0, 0};  // m/s^2
+};
+
+struct MaterialInput {
+  std::string name;
+  Eos eos;
+};
+
+struct ExchangeInput {
+  std::vector<double> momentum;  // N x N, K_rs
+  std::vector<double> heat;      // N x N, H_rs
+};
+
+enum class Shape { box, cylinder, sphere };
+
+struct GeometryPiece {
+  int material = 0;
+  Shape shape = Shape::box;
+  std::array<double, 3> lower{0, 0, 0}, upper{0, 0, 0};  // box
+  std::array<double, 3> bottom{0, 0, 0}, top{0, 0, 0};   // cylinder axis ends
+  std::array<double, 3> center{0, 0, 0};                 // sphere
+  double radius = 0;                                     // cylinder, sphere
+  double density = 0;                                    // kg/m^3 (micro density)
+  double temperature = 0;                                // K
+  std::array<double, 3> velocity{0, 0, 0};               // m/s
+  bool contains(const std::array<double, 3>& x) const;
+};
+
+/// Boundary conditions per face (x-, x+, y-, y+, z-, z+) and variable.
+struct BoundaryInput {
+  FaceBcs pressure, density, temperature, velocity;
+};
+
+struct ProbeInput {
+  std::string name;
+  std::array<double, 3> position{0, 0, 0};
+  std::vector<std::string> quantities;
+};
+
+struct OutputInput {
+  long history_interval = 1;  // steps
+  long probe_interval = 1;    // steps
+  bool final_fields = false;  // fields.csv with every cell's state at the end
+};
+
+struct Input {
+  std::string file;
+  GridInput grid;
+  TimeInput time;
+  IceInput ice;
+  std::vector<MaterialInput> materials;
+  ExchangeInput exchange;
+  std::vector<GeometryPiece> geometry;
+  int sample_points = 2;  // per cell and direction, for volume fractions
+  BoundaryInput boundary;
+  std::vector<ProbeInput> probes;
+  OutputInput output;
+};
+
+/// Quantities a probe may record.
+const std::vector<std::string>& probe_quantities();
+
+/// Read and validate `file`, after applying `--set key.path=value` overrides.
+/// Throws mpmice::InputError naming the key (and line) on any problem.
+Input load_input(const std::string& file, const std::vector<std::string>& overrides);
+
+}  // namespace mpmice

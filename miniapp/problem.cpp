@@ -1,0 +1,206 @@
+#include "problem.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/constants.hpp>
+#include <mpmice/kernels/errors.hpp>
+#include <mpmice/kernels/grid_state.hpp>
+
+namespace mpmice {
+
+std::array<std::string, 3> components(const std::string& name) {
+  return {name + "_x", name + "_y", name + "_z"};
+}
+
+VectorField4 vector_field(const FieldRegistry& fields, const std::string& name) {
+  const auto c = components(name);
+  return {fields.get<Field4>(c[0]), fields.get<Field4>(c[1]), fields.get<Field4>(c[2])};
+}
+
+namespace {
+
+// Every field the cycle uses (Uintah's names; _new: the state at t^{n+1}).
+void register_fields(Problem& pb) {
+  const Patch& p = pb.patch();
+  const int n = pb.material_count();
+  FieldRegistry& f = pb.fields;
+  auto cell4 = [&](const std::string& name) { f.add(name, make_field(name, p, Location::cell, n), Location::cell); };
+  auto cell3 = [&](const std::string& name) { f.add(name, make_field(name, p, Location::cell), Location::cell); };
+  auto vec4 = [&](const std::string& name) {
+    for (const auto& c : components(name)) cell4(c);
+  };
+  const Location face_loc[3] = {Location::x_face, Location::y_face, Location::z_face};
+  auto face4 = [&](const std::string& name) {
+    const auto c = components(name);
+    for (int d = 0; d < 3; ++d) f.add(c[d], make_field(c[d], p, face_loc[d], n), face_loc[d]);
+  };
+  auto face3 = [&](const std::string& name) {
+    const auto c = components(name);
+    for (int d = 0; d < 3; ++d) f.add(c[d], make_field(c[d], p, face_loc[d]), face_loc[d]);
+  };
+  for (const std::string suffix : {"", "_new"}) {
+    cell4("rho_CC" + suffix);
+    vec4("vel_CC" + suffix);
+    cell4("temp_CC" + suffix);
+    cell4("sp_vol_CC" + suffix);
+    cell3("press_CC" + suffix);
+  }
+  // Step 3
+  cell3("press_equil_CC");
+  cell4("vol_frac_CC");
+  cell4("sp_vol_equil_CC");
+  cell4("speedSound_CC");
+  cell4("kappa_CC");
+  cell3("sumKappa_CC");
+  cell3("TMV_CC");
+  // Steps 5-6
+  face4("vel_FC");
+  face4("vel_FCME");
+  // Step 7
+  cell4("adv_vol_frac_CC");
+  cell3("delP_Dilatate");
+  cell3("delP_MassX");
+  cell3("sum_rho_CC");
+  // Step 8-10
+  face3("press_FC");
+  vec4("mom_source_CC");
+  cell4("int_eng_source_CC");
+  // Steps 16-18
+  cell4("mass_L_CC");
+  vec4("mom_L_CC");
+  cell4("int_eng_L_CC");
+  vec4("vel_ME_CC");
+  cell4("temp_ME_CC");
+  cell4("Tdot_CC");
+  cell4("sp_vol_L_CC");
+}
+
+// Volume fractions and state by sampling each cell with res^3 points; the last piece
+// containing a point owns it (section 4, item 1).
+void initialize_state(Problem& pb) {
+  const Input& in = pb.input;
+  const Patch& p = pb.patch();
+  const int n = pb.material_count();
+  const int res = in.sample_points;
+  auto rho = Kokkos::create_mirror_view(pb.fields.get<Field4>("rho_CC"));
+  auto temp = Kokkos::create_mirror_view(pb.fields.get<Field4>("temp_CC"));
+  auto spv = Kokkos::create_mirror_view(pb.fields.get<Field4>("sp_vol_CC"));
+  auto press = Kokkos::create_mirror_view(pb.fields.get<Field3>("press_CC"));
+  const VectorField4 vel_d = vector_field(pb.fields, "vel_CC");
+  decltype(rho) vel[3] = {Kokkos::create_mirror_view(vel_d[0]), Kokkos::create_mirror_view(vel_d[1]),
+                          Kokkos::create_mirror_view(vel_d[2])};
+  std::vector<int> first_piece(n, -1);
+  for (std::size_t g = 0; g < in.geometry.size(); ++g)
+    if (first_piece[in.geometry[g].material] < 0) first_piece[in.geometry[g].material] = int(g);
+
+  const IndexBox own = p.owned_cells();
+  std::vector<int> count(in.geometry.size());
+  for (int i = own.lo[0]; i < own.hi[0]; ++i)
+    for (int j = own.lo[1]; j < own.hi[1]; ++j)
+      for (int k = own.lo[2]; k < own.hi[2]; ++k) {
+        std::fill(count.begin(), count.end(), 0);
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < res; ++a)
+          for (int b = 0; b < res; ++b)
+            for (int c = 0; c < res; ++c) {
+              const int sub[3] = {a, b, c};
+              std::array<double, 3> x;
+              for (int d = 0; d < 3; ++d)
+                x[d] = p.node_position(idx[d], d) + (sub[d] + 0.5) / res * p.grid.spacing[d];
+              int owner = -1;
+              for (std::size_t g = 0; g < in.geometry.size(); ++g)
+                if (in.geometry[g].contains(x)) owner = int(g);
+              if (owner < 0) {
+                char where[160];
+                std::snprintf(where, sizeof where, "cell (%d, %d, %d) at (%g, %g, %g) m",
+                              p.global_index(i, 0), p.global_index(j, 1), p.global_index(k, 2),
+                              x[0], x[1], x[2]);
+                throw InputError("geometry", std::string("no geometry piece covers ") + where);
+              }
+              ++count[owner];
+            }
+        const double points = double(res) * res * res;
+        double best_theta = -1, best_press = 0;
+        for (int m = 0; m < n; ++m) {
+          int points_m = 0, piece = first_piece[m], most = -1;
+          for (std::size_t g = 0; g < in.geometry.size(); ++g)
+            if (in.geometry[g].material == m) {
+              points_m += count[g];
+              if (count[g] > most && count[g] > 0) {
+                most = count[g];
+                piece = int(g);
+              }
+            }
+          const GeometryPiece& src = in.geometry[piece];
+          const double theta = points_m / points;
+          rho(m, i, j, k) = src.density * theta + tiny_rho * src.density;
+          spv(m, i, j, k) = 1.0 / src.density;
+          temp(m, i, j, k) = src.temperature;
+          for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = src.velocity[d];
+          if (theta > best_theta) {
+            best_theta = theta;
+            best_press = eos_pressure(pb.materials.eos[m], src.density, src.temperature);
+          }
+        }
+        press(i, j, k) = best_press;
+      }
+  Kokkos::deep_copy(pb.fields.get<Field4>("rho_CC"), rho);
+  Kokkos::deep_copy(pb.fields.get<Field4>("temp_CC"), temp);
+  Kokkos::deep_copy(pb.fields.get<Field4>("sp_vol_CC"), spv);
+  Kokkos::deep_copy(pb.fields.get<Field3>("press_CC"), press);
+  for (int d = 0; d < 3; ++d) Kokkos::deep_copy(vel_d[d], vel[d]);
+}
+
+}  // namespace
+
+void fill_state_extra_cells(Problem& pb, const std::string& suffix) {
+  const Patch& p = pb.patch();
+  const BoundaryInput& bc = pb.input.boundary;
+  const VectorField4 vel = vector_field(pb.fields, "vel_CC" + suffix);
+  // The specific volume follows the density's condition; where the density is given,
+  // the inflowing material fills the extra cell, so v = 1/rho there.
+  FaceBcs sp_vol_bc = bc.density;
+  for (int f = 0; f < 6; ++f)
+    if (sp_vol_bc[f].kind == BcKind::dirichlet) sp_vol_bc[f].value[0] = 1.0 / bc.density[f].value[0];
+  for (int m = 0; m < pb.material_count(); ++m) {
+    fill_extra_cells(pb.fields.get<Field4>("rho_CC" + suffix), m, p, bc.density, -1);
+    fill_extra_cells(pb.fields.get<Field4>("temp_CC" + suffix), m, p, bc.temperature, -1);
+    fill_extra_cells(pb.fields.get<Field4>("sp_vol_CC" + suffix), m, p, sp_vol_bc, -1);
+    for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], m, p, bc.velocity, d);
+  }
+  fill_extra_cells(pb.fields.get<Field3>("press_CC" + suffix), p, bc.pressure, -1);
+}
+
+std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm) {
+  auto pb = std::make_unique<Problem>();
+  pb->input = input;
+  Grid grid;
+  for (int d = 0; d < 3; ++d) {
+    grid.lower[d] = input.grid.lower[d];
+    grid.cells[d] = input.grid.cells[d];
+    grid.spacing[d] = (input.grid.upper[d] - input.grid.lower[d]) / input.grid.cells[d];
+  }
+  DecompositionOptions opt;
+  opt.ranks = input.grid.ranks;
+  opt.periodic = input.grid.periodic;
+  opt.ghosts = ghost_layers;
+  pb->decomposition = std::make_unique<Decomposition>(comm, grid, opt);
+  pb->halo = std::make_unique<Halo>(*pb->decomposition);
+
+  const int n = int(input.materials.size());
+  pb->materials.count = n;
+  for (int m = 0; m < n; ++m) pb->materials.eos[m] = input.materials[m].eos;
+  for (int r = 0; r < n; ++r)
+    for (int s = 0; s < n; ++s) {
+      pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[r * n + s];
+      pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[r * n + s];
+    }
+  register_fields(*pb);
+  initialize_state(*pb);
+  fill_state_extra_cells(*pb, "");
+  return pb;
+}
+
+}  // namespace mpmice

@@ -1,0 +1,49 @@
+#pragma once
+// A problem set up and ready to run: the decomposition, the halo, the material table,
+// the boundary conditions and every field of the cycle, registered by name.
+#include <mpi.h>
+
+#include <memory>
+
+#include <mpmice/halo/decomposition.hpp>
+#include <mpmice/halo/halo.hpp>
+#include <mpmice/halo/steps.hpp>
+#include <mpmice/kernels/errors.hpp>
+#include <mpmice/kernels/materials.hpp>
+
+#include "input.hpp"
+
+namespace mpmice {
+
+/// Ghost layers every patch stores: second-order advection reads two.
+constexpr int ghost_layers = 2;
+
+struct Problem {
+  Input input;
+  std::unique_ptr<Decomposition> decomposition;
+  std::unique_ptr<Halo> halo;
+  FieldRegistry fields;
+  MaterialTable materials;
+  double time = 0;  // s
+  long step = 0;
+
+  const Patch& patch() const { return decomposition->patch(); }
+  int material_count() const { return materials.count; }
+};
+
+/// Decompose the grid over `comm`, allocate the fields and set the initial state
+/// (mpmice-algorithm.md section 4). Throws InputError for inputs that only the set-up
+/// can judge (too many ranks, cells no geometry piece covers).
+std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm);
+
+/// The names of the three components of a vector field: name_x, name_y, name_z.
+std::array<std::string, 3> components(const std::string& name);
+
+/// The three component views of a registered vector field.
+VectorField4 vector_field(const FieldRegistry& fields, const std::string& name);
+
+/// Fill the extra cells of every persistent state field (density, velocity,
+/// temperature, specific volume, pressure), with the given suffix ("" or "_new").
+void fill_state_extra_cells(Problem& problem, const std::string& suffix);
+
+}  // namespace mpmice

@@ -1,0 +1,91 @@
+#include "run.hpp"
+
+#include <fmt/core.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "cycle.hpp"
+#include "diagnostics.hpp"
+#include "problem.hpp"
+
+namespace mpmice {
+
+std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_Comm comm) {
+  using clock = std::chrono::steady_clock;
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+
+  auto problem = make_problem(input, comm);
+  Problem& pb = *problem;
+  Cycle cycle(pb);
+  if (rank == 0) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.output_dir, ec);
+  }
+  MPI_Barrier(comm);
+  Diagnostics diagnostics(pb, options.output_dir);
+
+  const double t_end = options.end_time >= 0 ? options.end_time : input.time.end;
+  const long max_steps = options.max_steps >= 0 ? options.max_steps : input.time.max_steps;
+  const auto& tin = input.time;
+  const auto& grid = pb.patch().grid;
+  if (rank == 0 && options.report)
+    fmt::print("mpmice: {} | {} x {} x {} cells on {} rank{} ({} x {} x {}), {} material{}, to t = {:g} s\n",
+               input.file, grid.cells[0], grid.cells[1], grid.cells[2], ranks, ranks == 1 ? "" : "s",
+               pb.decomposition->dims()[0], pb.decomposition->dims()[1], pb.decomposition->dims()[2],
+               pb.material_count(), pb.material_count() == 1 ? "" : "s", t_end);
+  diagnostics.record(pb, 0.0);
+
+  const auto start = clock::now();
+  auto last_print = start;
+  double dt = std::min(tin.dt_initial, tin.dt_max);
+  long redone = 0;
+  while (pb.time < t_end * (1 - 1e-14) && pb.step < max_steps) {
+    if (pb.time + dt > t_end) dt = t_end - pb.time;
+    try {
+      cycle.advance(dt);
+    } catch (const RedoStep& e) {
+      ++redone;
+      dt *= 0.5;
+      if (dt < tin.dt_min)
+        throw InvariantError(std::string("step ") + std::to_string(pb.step + 1) + ": " + e.what() +
+                             " even with dt below time.dt_min");
+      continue;
+    }
+    pb.time += dt;
+    pb.step += 1;
+    diagnostics.record(pb, dt);
+    const double next = cycle.stable_timestep();
+    dt = std::min({next, dt * (1.0 + tin.max_increase), tin.dt_max});
+
+    const auto now = clock::now();
+    if (options.progress && rank == 0 && now - last_print > std::chrono::seconds(1)) {
+      last_print = now;
+      const double wall = std::chrono::duration<double>(now - start).count();
+      const double frac = std::min(pb.time / t_end, 1.0);
+      const double eta = frac > 0 ? wall * (1 - frac) / frac : 0;
+      fmt::print("  step {:>8}  t {:.6e} s  dt {:.3e} s  {:5.1f}%  wall {:.1f} s  eta {:.1f} s\n", pb.step,
+                 pb.time, dt, 100 * frac, wall, eta);
+      std::fflush(stdout);
+    }
+  }
+  const double wall = std::chrono::duration<double>(clock::now() - start).count();
+  if (input.output.final_fields) Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
+  std::cout << std::flush;
+  if (options.report) cycle.runner().print_timings(std::cout);
+  if (rank == 0 && options.report) {
+    const double cell_steps = double(grid.cell_count()) * pb.step;
+    fmt::print("mpmice: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} cell-steps/s{}); output in {}\n",
+               pb.step, pb.time, wall, wall > 0 ? cell_steps / wall : 0.0,
+               redone ? fmt::format(", {} steps redone with a smaller dt", redone) : "",
+               options.output_dir);
+  }
+  return problem;
+}
+
+}  // namespace mpmice
