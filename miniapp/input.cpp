@@ -100,8 +100,8 @@ void read_boundary(Reader& root, Input& in) {
       else if (s == "outflow" || s == "zero_gradient")
         all.kind = BcKind::neumann;
       else
-        b.fail(name, "is '" + s + "'; allowed: symmetry, wall, outflow, zero_gradient, or a map of "
-                                  "pressure/density/temperature/velocity conditions");
+        b.fail(name, "is '" + s + "' (allowed: symmetry, wall, outflow, zero_gradient, or a map of "
+                                  "pressure/density/temperature/velocity conditions)");
       in.boundary.pressure[f] = in.boundary.density[f] = in.boundary.temperature[f] =
           in.boundary.velocity[f] = all;
       continue;
@@ -359,7 +359,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
         if (!ok) {
           std::string list_s;
           for (const auto& a : probe_quantities()) list_s += (list_s.empty() ? "" : ", ") + a;
-          r.fail("quantities", "names '" + q + "'; allowed: " + list_s);
+          r.fail("quantities", "names '" + q + "' (allowed: " + list_s + ")");
         }
       }
       r.finish();

@@ -81,7 +81,7 @@ class Reader {
       if (a == v) return v;
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    fail(key, "is '" + v + "'; allowed: " + list);
+    fail(key, "is '" + v + "' (allowed: " + list + ")");
     return v;
   }
 
@@ -105,7 +105,7 @@ class Reader {
     if (!std::isfinite(v) || v < lo || v > hi || (open_lo && v == lo)) {
       std::string range = (open_lo ? "> " : ">= ") + fmt(lo);
       if (hi < std::numeric_limits<double>::max()) range += " and <= " + fmt(hi);
-      fail(key, "is " + fmt(v) + "; it must be " + range);
+      fail(key, "is " + fmt(v) + ", but must be " + range);
     }
   }
 
