@@ -27,12 +27,21 @@ enum class ParticleField : int {
   bulk_viscosity,               ///< artificial bulk viscosity q, Pa
   heating_rate,                 ///< constitutive heating rate, K/s
   plastic_strain,               ///< equivalent plastic strain
+  L00, L01, L02, L10, L11, L12, L20, L21, L22,  ///< velocity gradient of the last step, 1/s
+  be00, be01, be02, be10, be11, be12, be20, be21, be22,  ///< elastic left Cauchy-Green bbar_e
   count                         ///< number of components (not a component)
 };
 constexpr int particle_field_count = static_cast<int>(ParticleField::count);
 
 using ParticleData = Kokkos::View<double**, Kokkos::LayoutLeft, MemSpace>;
 using ParticleIds = Kokkos::View<std::int64_t*, MemSpace>;
+
+/// Component c of the 3 x 3 tensor whose first component is `first` (F00, s00, ...).
+KOKKOS_INLINE_FUNCTION int tensor_column(ParticleField first, int i, int j) {
+  return static_cast<int>(first) + 3 * i + j;
+}
+/// Column index of a particle component.
+KOKKOS_INLINE_FUNCTION constexpr int column(ParticleField f) { return static_cast<int>(f); }
 
 /// The particles of one MPM material on one patch: `size()` live particles in the
 /// first rows of views that hold `capacity()`.

@@ -1,0 +1,59 @@
+#pragma once
+/// \file grid_update.hpp
+/// \brief Step 14: node acceleration and the updated node velocity (E26), and the
+///        node velocity boundary conditions of Step 20 (symmetry, fixed, prescribed).
+#include <mpmice/kernels/boundary_conditions.hpp>
+
+namespace mpmice {
+
+/// a = (f_int + f_ext)/m + g, v* = v + dt a on `nodes` (E26). A rigid material
+/// (`rigid`) keeps v* = v, a = 0.
+inline void grid_acceleration(const IndexBox& nodes, int m, double dt, Kokkos::Array<double, 3> gravity,
+                              bool rigid, const ConstField4& mass, const ConstVectorField4& vel,
+                              const ConstVectorField4& fint, const ConstVectorField4& fext,
+                              const VectorField4& vel_star, const VectorField4& acc) {
+  Kokkos::parallel_for(
+      "mpmice::grid_acceleration", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double inv = 1.0 / mass(m, i, j, k);
+        for (int d = 0; d < 3; ++d) {
+          const double a = rigid ? 0.0 : (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d];
+          acc[d](m, i, j, k) = a;
+          vel_star[d](m, i, j, k) = vel[d](m, i, j, k) + dt * a;
+        }
+      });
+}
+
+/// Velocity conditions on the node layers at and beyond each domain face: symmetry
+/// zeroes the normal component, Dirichlet sets the value (fixed: 0), Neumann leaves
+/// the node free. Where a condition acts the acceleration becomes (v* - v)/dt, with
+/// v the node velocity of Step 1 (Step 20). `nodes` bounds the tangential extent.
+inline void node_velocity_bcs(const Patch& patch, const IndexBox& nodes, int m, double dt,
+                              const FaceBcs& bcs, const VectorField4& vel,
+                              const VectorField4& vel_star, const VectorField4& acc) {
+  const int G = patch.ghosts;
+  for (int d = 0; d < 3; ++d)
+    for (int side = 0; side < 2; ++side) {
+      if (!patch.on_domain_boundary(d, side)) continue;
+      const Bc bc = bcs[2 * d + side];
+      if (bc.kind == BcKind::neumann) continue;
+      IndexBox box = nodes;
+      const int n = patch.owned_cells(d);
+      box.lo[d] = side == 0 ? 0 : G + n;           // the boundary node layer and beyond
+      box.hi[d] = side == 0 ? G + 1 : 2 * G + n + 1;
+      Kokkos::parallel_for(
+          "mpmice::node_velocity_bcs", box.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+            if (bc.kind == BcKind::symmetry) {
+              vel[d](m, i, j, k) = 0.0;
+              vel_star[d](m, i, j, k) = 0.0;
+              acc[d](m, i, j, k) = 0.0;
+            } else {
+              for (int c = 0; c < 3; ++c) {
+                vel_star[c](m, i, j, k) = bc.value[c];
+                acc[c](m, i, j, k) = (bc.value[c] - vel[c](m, i, j, k)) / dt;
+              }
+            }
+          });
+    }
+}
+
+}  // namespace mpmice

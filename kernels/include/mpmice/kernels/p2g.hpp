@@ -1,0 +1,104 @@
+#pragma once
+/// \file p2g.hpp
+/// \brief Step 1: particle-to-grid of mass, momentum, m T, volume and external force
+///        (E12), and the node velocity and temperature from them.
+///
+/// The scatter: Kokkos ScatterView (duplicated per thread on OpenMP, atomic on GPUs)
+/// is the one way particles add into nodes (`scatter_add` below); the benchmark issue
+/// measures it against the alternatives.
+#include <Kokkos_ScatterView.hpp>
+
+#include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/shape.hpp>
+
+namespace mpmice {
+
+/// Node sums of one MPM material, indexed (m, i, j, k) on the patch's nodes.
+struct NodeSums {
+  Field4 mass;      ///< sum S m_p, kg (starts at 1e-200)
+  VectorField4 mom; ///< sum S m_p v_p, kg m/s
+  Field4 heat;      ///< sum S m_p T_p, kg K
+  Field4 volume;    ///< sum S V_p, m^3 (starts at 1e-200)
+  VectorField4 fext;///< sum S f_ext,p, N
+};
+
+/// The one scatter: every node field gets its particles' contributions summed in.
+using NodeScatter = Kokkos::Experimental::ScatterView<double****, Kokkos::LayoutRight, ExecSpace>;
+
+/// Add what a scatter gathered into its node field.
+inline void contribute(Field4 dest, const NodeScatter& scatter) {
+  Kokkos::Experimental::contribute(dest, scatter);
+}
+
+/// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
+/// call first resets over the whole patch, ghost nodes included).
+template <class Shape>
+void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums) {
+  Kokkos::deep_copy(Kokkos::subview(sums.mass, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
+  Kokkos::deep_copy(Kokkos::subview(sums.volume, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
+  Field4 zeroed[7] = {sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.fext[0], sums.fext[1], sums.fext[2]};
+  for (auto& f : zeroed) Kokkos::deep_copy(Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 0.0);
+
+  NodeScatter s_mass(sums.mass), s_px(sums.mom[0]), s_py(sums.mom[1]), s_pz(sums.mom[2]),
+      s_heat(sums.heat), s_vol(sums.volume), s_fx(sums.fext[0]), s_fy(sums.fext[1]), s_fz(sums.fext[2]);
+  Kokkos::parallel_for(
+      "mpmice::p2g", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+        double x[3], half[3];
+        particle_position(data, p, x, half);
+        const ParticleWeights<Shape> wt(x, grid.lower, grid.inv_h, half);
+        const double mp = data(p, column(ParticleField::mass));
+        const double vp = data(p, column(ParticleField::volume));
+        const double px = mp * data(p, column(ParticleField::vx)), py = mp * data(p, column(ParticleField::vy)),
+                     pz = mp * data(p, column(ParticleField::vz));
+        const double mt = mp * data(p, column(ParticleField::temperature));
+        const double fx = data(p, column(ParticleField::fext_x)), fy = data(p, column(ParticleField::fext_y)),
+                     fz = data(p, column(ParticleField::fext_z));
+        auto a_mass = s_mass.access();
+        auto a_px = s_px.access();
+        auto a_py = s_py.access();
+        auto a_pz = s_pz.access();
+        auto a_heat = s_heat.access();
+        auto a_vol = s_vol.access();
+        auto a_fx = s_fx.access();
+        auto a_fy = s_fy.access();
+        auto a_fz = s_fz.access();
+        for (int a = 0; a < Shape::nodes; ++a)
+          for (int b = 0; b < Shape::nodes; ++b)
+            for (int c = 0; c < Shape::nodes; ++c) {
+              const double S = wt.weight(a, b, c);
+              if (S == 0.0) continue;
+              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
+              a_mass(m, i, j, k) += S * mp;
+              a_px(m, i, j, k) += S * px;
+              a_py(m, i, j, k) += S * py;
+              a_pz(m, i, j, k) += S * pz;
+              a_heat(m, i, j, k) += S * mt;
+              a_vol(m, i, j, k) += S * vp;
+              a_fx(m, i, j, k) += S * fx;
+              a_fy(m, i, j, k) += S * fy;
+              a_fz(m, i, j, k) += S * fz;
+            }
+      });
+  contribute(sums.mass, s_mass);
+  contribute(sums.mom[0], s_px);
+  contribute(sums.mom[1], s_py);
+  contribute(sums.mom[2], s_pz);
+  contribute(sums.heat, s_heat);
+  contribute(sums.volume, s_vol);
+  contribute(sums.fext[0], s_fx);
+  contribute(sums.fext[1], s_fy);
+  contribute(sums.fext[2], s_fz);
+}
+
+/// Node velocity v = sum S m v / m and temperature T = sum S m T / m (E12) on `nodes`.
+inline void node_velocity_temperature(const IndexBox& nodes, int m, const NodeSums& sums,
+                                      const VectorField4& vel, const Field4& temp) {
+  Kokkos::parallel_for(
+      "mpmice::node_velocity_temperature", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double inv = 1.0 / sums.mass(m, i, j, k);
+        for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = sums.mom[d](m, i, j, k) * inv;
+        temp(m, i, j, k) = sums.heat(m, i, j, k) * inv;
+      });
+}
+
+}  // namespace mpmice

@@ -1,0 +1,47 @@
+#pragma once
+/// \file particle_sort.hpp
+/// \brief Particles sorted by the cell they are in (row-major local cell index), so
+///        that particles of one cell are neighbours in memory (better locality for
+///        the scatter and gather). A stable counting sort by cell key.
+#include <Kokkos_Sort.hpp>
+
+#include <mpmice/kernels/particle_grid.hpp>
+
+namespace mpmice {
+
+/// Reorders the live particles of `particles` by cell; every component moves with
+/// its particle.
+inline void sort_particles_by_cell(const Patch& patch, ParticleSet& particles) {
+  const long n = long(particles.size());
+  if (n < 2) return;
+  const NodeGrid grid = node_grid(patch);
+  const int ny = patch.extent(Location::cell, 1), nz = patch.extent(Location::cell, 2);
+  const int ncell = patch.extent(Location::cell, 0) * ny * nz;
+  Kokkos::View<int*, MemSpace> key("mpmice::sort_key", n);
+  const ParticleData data = particles.data();
+  Kokkos::parallel_for(
+      "mpmice::cell_key", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long p) {
+        int c[3];
+        for (int d = 0; d < 3; ++d)
+          c[d] = int(math::floor((data(p, column(ParticleField::x) + d) - grid.lower[d]) * grid.inv_h[d]));
+        key(p) = (c[0] * ny + c[1]) * nz + c[2];
+      });
+  using Comp = Kokkos::BinOp1D<Kokkos::View<int*, MemSpace>>;
+  Kokkos::BinSort<Kokkos::View<int*, MemSpace>, Comp> sorter(key, Comp(ncell, 0, ncell), /*sort_within_bins=*/false);
+  sorter.create_permute_vector();
+  const auto perm = sorter.get_permute_vector();
+  ParticleSet sorted(particles.label(), std::size_t(n));
+  sorted.resize(std::size_t(n));
+  const ParticleData out = sorted.data();
+  const ParticleIds id_in = particles.id(), id_out = sorted.id();
+  const int ncomp = particle_field_count;
+  Kokkos::parallel_for(
+      "mpmice::sort_gather", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long q) {
+        const long p = perm(q);
+        for (int c = 0; c < ncomp; ++c) out(q, c) = data(p, c);
+        id_out(q) = id_in(p);
+      });
+  particles = std::move(sorted);
+}
+
+}  // namespace mpmice

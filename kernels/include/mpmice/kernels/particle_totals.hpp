@@ -1,0 +1,39 @@
+#pragma once
+/// \file particle_totals.hpp
+/// \brief Totals of one MPM material over its particles for the conservation history:
+///        mass, momentum, energy = stored strain energy + kinetic.
+#include <mpmice/kernels/conserved_totals.hpp>
+#include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/solid_models.hpp>
+
+namespace mpmice {
+
+inline MaterialTotals particle_totals(long count, const ParticleData& data, const SolidModel& model) {
+  MaterialTotals total;
+  Kokkos::parallel_reduce(
+      "mpmice::particle_totals", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, MaterialTotals& t) {
+        const double m = data(p, column(ParticleField::mass));
+        const double vx = data(p, column(ParticleField::vx)), vy = data(p, column(ParticleField::vy)),
+                     vz = data(p, column(ParticleField::vz));
+        t.value[0] += m;
+        t.value[1] += m * vx;
+        t.value[2] += m * vy;
+        t.value[3] += m * vz;
+        double strain = 0;
+        if (model.type != SolidModelType::rigid) {
+          const Mat3 F = load_tensor(data, p, ParticleField::F00);
+          const double J = F.det();
+          const Mat3 bbar = model.type == SolidModelType::neo_hookean_plastic
+                                ? load_tensor(data, p, ParticleField::be00)
+                                : math::pow(J, -2.0 / 3.0) * (F * F.transpose());
+          // Energy per reference volume times the reference volume m / rho_0.
+          strain = neo_hookean_energy(J, bbar, model.bulk_modulus, model.shear_modulus) * m / model.density;
+        }
+        t.value[4] += 0.5 * m * (vx * vx + vy * vy + vz * vz) + strain;
+      },
+      Kokkos::Sum<MaterialTotals>(total));
+  return total;
+}
+
+}  // namespace mpmice

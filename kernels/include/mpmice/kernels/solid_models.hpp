@@ -1,0 +1,77 @@
+#pragma once
+/// \file solid_models.hpp
+/// \brief Constitutive models of MPM materials, pointwise (mpmice-algorithm.md 9.3):
+///        compressible neo-Hookean (E53), neo-Hookean with J2 plasticity and linear
+///        hardening (E54), and a rigid material with prescribed velocity. Cauchy
+///        stress, tension positive, Pa.
+#include <mpmice/kernels/mat3.hpp>
+
+namespace mpmice {
+
+enum class SolidModelType : int { neo_hookean = 0, neo_hookean_plastic = 1, rigid = 2 };
+
+struct SolidModel {
+  SolidModelType type = SolidModelType::neo_hookean;
+  double density = 1000.0;        ///< reference density rho_0, kg/m^3
+  double bulk_modulus = 1e9;      ///< K, Pa
+  double shear_modulus = 1e9;     ///< G, Pa
+  double yield_stress = 1e300;    ///< sigma_y, Pa (plastic)
+  double hardening_modulus = 0;   ///< H, Pa (plastic)
+  double cv = 1000.0;             ///< specific heat, J/kg/K
+  double prescribed_velocity[3] = {0, 0, 0};  ///< m/s (rigid)
+  double stop_time = 1e300;       ///< after this the rigid material stops, s
+
+  /// Dilatational wave speed at density rho (E58).
+  KOKKOS_INLINE_FUNCTION double wave_speed(double rho) const {
+    return math::sqrt((bulk_modulus + 4.0 * shear_modulus / 3.0) / rho);
+  }
+};
+
+/// Volumetric (pressure) part of the Cauchy stress, (K/2)(J - 1/J) (E53).
+KOKKOS_INLINE_FUNCTION double neo_hookean_mean_stress(double J, double K) { return 0.5 * K * (J - 1.0 / J); }
+
+/// sigma = (K/2)(J - 1/J) I + (G/J) dev(J^{-2/3} F F^T) (E53).
+KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_stress(const Mat3& F, double K, double G) {
+  const double J = F.det();
+  const Mat3 bbar = math::pow(J, -2.0 / 3.0) * (F * F.transpose());
+  Mat3 sigma = (G / J) * bbar.deviator();
+  const double p = neo_hookean_mean_stress(J, K);
+  for (int i = 0; i < 3; ++i) sigma(i, i) += p;
+  return sigma;
+}
+
+/// Stored energy per reference volume, (K/2)((J^2 - 1)/2 - ln J) + (G/2)(tr bbar - 3),
+/// whose derivatives give (E53); `bbar` is the (elastic) isochoric left Cauchy-Green.
+KOKKOS_INLINE_FUNCTION double neo_hookean_energy(double J, const Mat3& bbar, double K, double G) {
+  return 0.5 * K * (0.5 * (J * J - 1.0) - math::log(J)) + 0.5 * G * (bbar.trace() - 3.0);
+}
+
+/// One step of J2 plasticity on the neo-Hookean model (E54, Simo's return map):
+/// `f` = F_new F_old^{-1}, bbar_e and eps_p updated in place; returns the Cauchy
+/// stress for det F_new = J.
+KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_plastic_stress(const Mat3& f, double J, Mat3& bbar_e,
+                                                       double& eps_p, const SolidModel& model) {
+  const double G = model.shear_modulus;
+  const Mat3 fbar = math::pow(f.det(), -1.0 / 3.0) * f;
+  const Mat3 b_trial = fbar * bbar_e * fbar.transpose();
+  const double tr3 = b_trial.trace() / 3.0;
+  const double mubar = G * tr3;
+  Mat3 s = G * b_trial.deviator();
+  const double s_norm = s.norm();
+  const double phi = s_norm - math::sqrt(2.0 / 3.0) * (model.yield_stress + model.hardening_modulus * eps_p);
+  if (phi > 0.0) {
+    const double dgamma = (phi / (2.0 * mubar)) / (1.0 + model.hardening_modulus / (3.0 * mubar));
+    s = (1.0 - 2.0 * mubar * dgamma / s_norm) * s;
+    eps_p += math::sqrt(2.0 / 3.0) * dgamma;
+    bbar_e = (1.0 / G) * s;
+    for (int i = 0; i < 3; ++i) bbar_e(i, i) += tr3;
+  } else {
+    bbar_e = b_trial;
+  }
+  Mat3 sigma = (1.0 / J) * s;
+  const double p = neo_hookean_mean_stress(J, model.bulk_modulus);
+  for (int i = 0; i < 3; ++i) sigma(i, i) += p;
+  return sigma;
+}
+
+}  // namespace mpmice

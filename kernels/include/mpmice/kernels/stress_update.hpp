@@ -1,0 +1,44 @@
+#pragma once
+/// \file stress_update.hpp
+/// \brief Step 23: the particles' Cauchy stress at t^{n+1} from their deformation
+///        (E53, E54), and the MPM stable timestep (E58).
+#include <mpmice/kernels/g2p.hpp>
+
+namespace mpmice {
+
+/// Updates stress (and bbar_e, plastic strain) of the `count` particles of one
+/// material; returns min over particles and directions of h_d / (c_dil + |v_d|), the
+/// dilatational wave speed at the current density rho_0 / J (E58); a rigid material
+/// does not limit the step (returns a huge value).
+inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
+                            const SolidModel& model, double dt) {
+  if (model.type == SolidModelType::rigid) return 1e300;
+  double dt_limit = 1e300;
+  Kokkos::parallel_reduce(
+      "mpmice::stress_update", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, double& lim) {
+        const Mat3 F = load_tensor(data, p, ParticleField::F00);
+        const double J = F.det();
+        Mat3 sigma;
+        if (model.type == SolidModelType::neo_hookean_plastic) {
+          const Mat3 f = deformation_increment(load_tensor(data, p, ParticleField::L00), dt);
+          Mat3 be = load_tensor(data, p, ParticleField::be00);
+          double& eps = data(p, column(ParticleField::plastic_strain));
+          sigma = neo_hookean_plastic_stress(f, J, be, eps, model);
+          store_tensor(data, p, ParticleField::be00, be);
+        } else {
+          sigma = neo_hookean_stress(F, model.bulk_modulus, model.shear_modulus);
+        }
+        store_tensor(data, p, ParticleField::s00, sigma);
+        const double c = model.wave_speed(model.density / J);
+        for (int d = 0; d < 3; ++d) {
+          const double v = math::abs(data(p, column(ParticleField::vx) + d));
+          const double t = grid.h[d] / (c + v);
+          if (t < lim) lim = t;
+        }
+      },
+      Kokkos::Min<double>(dt_limit));
+  return dt_limit;
+}
+
+}  // namespace mpmice

@@ -1,0 +1,266 @@
+// MPM kernels: shape functions (partition of unity, linear reproduction), the
+// particle-grid transfers' conservation, and the constitutive models against closed
+// forms under homogeneous deformation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <mpmice/kernels/g2p.hpp>
+#include <mpmice/kernels/grid_state.hpp>
+#include <mpmice/kernels/p2g.hpp>
+#include <mpmice/kernels/particle_sort.hpp>
+#include <mpmice/kernels/particle_totals.hpp>
+#include <mpmice/kernels/stress_update.hpp>
+
+using namespace mpmice;
+
+namespace {
+
+template <class Shape>
+void check_partition_and_linear(double half_width) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(3.0, 6.0);
+  const double lower[3] = {-0.2, 0.1, 0.0}, h[3] = {0.1, 0.2, 0.05};
+  const double inv_h[3] = {1 / h[0], 1 / h[1], 1 / h[2]}, half[3] = {half_width, half_width, half_width};
+  for (int trial = 0; trial < 2000; ++trial) {
+    double x[3];
+    for (int d = 0; d < 3; ++d) x[d] = lower[d] + u(rng) * h[d];
+    const ParticleWeights<Shape> wt(x, lower, inv_h, half);
+    // sum S = 1, sum S X_i = x, sum grad S = 0, sum X_i (x) grad S = I.
+    double sum = 0, first[3] = {0, 0, 0}, gsum[3] = {0, 0, 0}, gx[3][3] = {};
+    for (int a = 0; a < Shape::nodes; ++a)
+      for (int b = 0; b < Shape::nodes; ++b)
+        for (int c = 0; c < Shape::nodes; ++c) {
+          const double S = wt.weight(a, b, c);
+          double g[3];
+          wt.gradient(a, b, c, g);
+          const double X[3] = {lower[0] + (wt.first[0] + a) * h[0], lower[1] + (wt.first[1] + b) * h[1],
+                               lower[2] + (wt.first[2] + c) * h[2]};
+          sum += S;
+          for (int d = 0; d < 3; ++d) {
+            first[d] += S * X[d];
+            gsum[d] += g[d];
+            for (int e = 0; e < 3; ++e) gx[d][e] += X[d] * g[e];
+          }
+        }
+    ASSERT_NEAR(sum, 1.0, 1e-13);
+    for (int d = 0; d < 3; ++d) {
+      ASSERT_NEAR(first[d], x[d], 1e-13);
+      ASSERT_NEAR(gsum[d] * h[d], 0.0, 1e-13);
+      for (int e = 0; e < 3; ++e) ASSERT_NEAR(gx[d][e], d == e ? 1.0 : 0.0, 1e-12);
+    }
+  }
+}
+
+}  // namespace
+
+TEST(Shape, LinearPartitionOfUnityAndLinearReproduction) { check_partition_and_linear<LinearShape>(0.0); }
+TEST(Shape, GimpPartitionOfUnityAndLinearReproduction) {
+  for (double l : {0.25, 1.0 / 6.0, 0.5}) check_partition_and_linear<GimpShape>(l);
+}
+
+// Random particles: node mass and momentum totals equal particle totals; a grid
+// velocity that is linear in x is gathered back exactly (rigid motion), and the node
+// sums do not depend on the thread count beyond round-off.
+template <class Shape>
+void transfer_test() {
+  Grid g;
+  g.cells = {8, 6, 5};
+  g.spacing = {0.1, 0.1, 0.1};
+  const Patch patch = whole_grid_patch(g, 2);
+  const NodeGrid grid = node_grid(patch);
+  const long n = 5000;
+  ParticleSet ps("solid", n);
+  ps.resize(n);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double mass = 0, mom[3] = {0, 0, 0};
+  for (long p = 0; p < n; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      h(p, column(ParticleField::x) + d) = (0.5 + u(rng) * (g.cells[d] - 1)) * g.spacing[d];
+      h(p, column(ParticleField::vx) + d) = u(rng) - 0.5;
+      h(p, column(ParticleField::size_x) + d) = 0.5;
+    }
+    h(p, column(ParticleField::mass)) = 0.5 + u(rng);
+    h(p, column(ParticleField::volume)) = 1e-4;
+    mass += h(p, column(ParticleField::mass));
+    for (int d = 0; d < 3; ++d) mom[d] += h(p, column(ParticleField::mass)) * h(p, column(ParticleField::vx) + d);
+  }
+  Kokkos::deep_copy(ps.data(), h);
+  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
+  NodeSums sums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"), {node("fx"), node("fy"), node("fz")}};
+  p2g<Shape>(grid, n, ps.data(), 0, sums);
+  auto total = [&](const Field4& f) {
+    double s = 0;
+    Kokkos::parallel_reduce("sum", patch.ghosted_nodes(2).policy(),
+                            KOKKOS_LAMBDA(int i, int j, int k, double& t) { t += f(0, i, j, k); }, s);
+    return s;
+  };
+  const double nodes = double(patch.ghosted_nodes(2).size());
+  EXPECT_NEAR(total(sums.mass) - nodes * 1e-200, mass, 1e-13 * mass);
+  // Node by node against a serial sum on the host: whatever the thread count, the
+  // scatter differs from it only by round-off.
+  {
+    auto node_mass = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sums.mass);
+    Kokkos::View<double****, Kokkos::HostSpace> serial("serial", 1, node_mass.extent(1), node_mass.extent(2),
+                                                         node_mass.extent(3));
+    for (long p = 0; p < n; ++p) {
+      double x[3], half[3];
+      for (int d = 0; d < 3; ++d) {
+        x[d] = h(p, column(ParticleField::x) + d);
+        half[d] = 0.5 * h(p, column(ParticleField::size_x) + d);
+      }
+      const ParticleWeights<Shape> wt(x, grid.lower, grid.inv_h, half);
+      for (int a = 0; a < Shape::nodes; ++a)
+        for (int b = 0; b < Shape::nodes; ++b)
+          for (int c = 0; c < Shape::nodes; ++c)
+            serial(0, wt.first[0] + a, wt.first[1] + b, wt.first[2] + c) +=
+                wt.weight(a, b, c) * h(p, column(ParticleField::mass));
+    }
+    double worst = 0;
+    for (std::size_t i = 0; i < serial.extent(1); ++i)
+      for (std::size_t j = 0; j < serial.extent(2); ++j)
+        for (std::size_t k = 0; k < serial.extent(3); ++k)
+          worst = std::max(worst, std::abs(node_mass(0, i, j, k) - 1e-200 - serial(0, i, j, k)));
+    EXPECT_LE(worst, 1e-14 * mass) << "threads " << ExecSpace().concurrency();
+  }
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(total(sums.mom[d]), mom[d], 1e-13 * mass);
+
+  // Gather of a linear velocity field v = A x + b: particles get it exactly, and L = A.
+  VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
+  const double A[3][3] = {{0.1, -0.2, 0.05}, {0.3, 0.0, -0.1}, {0.02, 0.04, -0.3}};
+  for (int d = 0; d < 3; ++d) {
+    auto v = vs[d];
+    const double a0 = A[d][0], a1 = A[d][1], a2 = A[d][2];
+    Kokkos::parallel_for("linear", patch.ghosted_nodes(2).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+      v(0, i, j, k) = a0 * (grid.lower[0] + i * grid.h[0]) + a1 * (grid.lower[1] + j * grid.h[1]) +
+                      a2 * (grid.lower[2] + k * grid.h[2]) + 1.0;
+    });
+  }
+  for (long p = 0; p < n; ++p)
+    for (int d = 0; d < 3; ++d) h(p, column(ParticleField::F00) + 4 * d) = 1.0;
+  Kokkos::deep_copy(ps.data(), h);
+  // The positions before the update (a host mirror may alias the particle data).
+  std::vector<double> x0(3 * n);
+  for (long p = 0; p < n; ++p)
+    for (int d = 0; d < 3; ++d) x0[3 * p + d] = h(p, column(ParticleField::x) + d);
+  const double dt = 1e-3;
+  g2p<Shape>(grid, n, ps.data(), 0, dt, 1.0, false, {0, 0, 0}, ConstVectorField4{vs[0], vs[1], vs[2]},
+             ConstVectorField4{acc[0], acc[1], acc[2]});
+  auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  for (long p = 0; p < n; p += 97) {
+    double x[3];
+    for (int d = 0; d < 3; ++d) x[d] = x0[3 * p + d];
+    for (int d = 0; d < 3; ++d) {
+      const double v = A[d][0] * x[0] + A[d][1] * x[1] + A[d][2] * x[2] + 1.0;
+      EXPECT_NEAR(after(p, column(ParticleField::vx) + d), v, 1e-13);  // PIC fraction 1
+      EXPECT_NEAR(after(p, column(ParticleField::x) + d), x[d] + dt * v, 1e-13);
+      for (int e = 0; e < 3; ++e) EXPECT_NEAR(after(p, tensor_column(ParticleField::L00, d, e)), A[d][e], 1e-11);
+    }
+  }
+}
+
+TEST(Transfer, LinearConservesAndReproduces) { transfer_test<LinearShape>(); }
+TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
+
+TEST(Transfer, SortKeepsEveryParticle) {
+  Grid g;
+  g.cells = {4, 4, 4};
+  const Patch patch = whole_grid_patch(g, 2);
+  ParticleSet ps("s", 300);
+  ps.resize(300);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  auto id = Kokkos::create_mirror_view(ps.id());
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(0.0, 4.0);
+  for (long p = 0; p < 300; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = p + 0.001 * c;
+    for (int d = 0; d < 3; ++d) h(p, column(ParticleField::x) + d) = u(rng);
+    id(p) = p;
+  }
+  Kokkos::deep_copy(ps.data(), h);
+  Kokkos::deep_copy(ps.id(), id);
+  sort_particles_by_cell(patch, ps);
+  auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  auto sid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
+  long last_key = -1, idsum = 0;
+  for (long q = 0; q < 300; ++q) {
+    const long p = sid(q);
+    idsum += p;
+    for (int c = 0; c < particle_field_count; ++c) ASSERT_EQ(s(q, c), h(p, c));
+    long key = 0;
+    for (int d = 0; d < 3; ++d) key = key * 8 + long(std::floor(s(q, column(ParticleField::x) + d)) + 2);
+    EXPECT_GE(key, last_key);
+    last_key = key;
+  }
+  EXPECT_EQ(idsum, 299L * 300 / 2);
+}
+
+// Closed forms of (E53) under uniaxial stretch F = diag(l, 1, 1) and simple shear
+// F = I + g e1 e2.
+TEST(Stress, NeoHookeanClosedForms) {
+  const double K = 5e9, G = 2e9;
+  for (double l : {0.8, 1.0, 1.3}) {
+    Mat3 F = Mat3::identity();
+    F(0, 0) = l;
+    const Mat3 s = neo_hookean_stress(F, K, G);
+    const double J = l, c = std::pow(J, -2.0 / 3.0);
+    const double dev_xx = G / J * c * (l * l - (l * l + 2.0) / 3.0);
+    const double dev_yy = G / J * c * (1.0 - (l * l + 2.0) / 3.0);
+    const double p = 0.5 * K * (J - 1.0 / J);
+    EXPECT_NEAR(s(0, 0), p + dev_xx, 1e-10 * (K + G));
+    EXPECT_NEAR(s(1, 1), p + dev_yy, 1e-10 * (K + G));
+    EXPECT_NEAR(s(2, 2), p + dev_yy, 1e-10 * (K + G));
+    EXPECT_NEAR(s(0, 1), 0.0, 1e-10 * (K + G));
+  }
+  for (double g : {0.01, 0.2, 1.0}) {
+    Mat3 F = Mat3::identity();
+    F(0, 1) = g;
+    const Mat3 s = neo_hookean_stress(F, K, G);
+    // J = 1, b = [[1+g^2, g, 0], [g, 1, 0], [0, 0, 1]]: shear stress G g, normal
+    // stresses G (2/3 g^2, -1/3 g^2, -1/3 g^2).
+    EXPECT_NEAR(s(0, 1), G * g, 1e-10 * G);
+    EXPECT_NEAR(s(1, 0), G * g, 1e-10 * G);
+    EXPECT_NEAR(s(0, 0), G * 2.0 / 3.0 * g * g, 1e-10 * G);
+    EXPECT_NEAR(s(1, 1), -G / 3.0 * g * g, 1e-10 * G);
+    EXPECT_NEAR(s(2, 2), -G / 3.0 * g * g, 1e-10 * G);
+  }
+}
+
+// (E54): elastic below yield (equal to neo-Hookean), on the yield surface
+// sqrt(3/2)|s| = sigma_y + H eps_p once yielding, and the yield stress grows with
+// the hardening modulus.
+TEST(Stress, PlasticYieldsAndHardens) {
+  SolidModel m;
+  m.type = SolidModelType::neo_hookean_plastic;
+  m.bulk_modulus = 100e9;
+  m.shear_modulus = 40e9;
+  m.yield_stress = 200e6;
+  m.hardening_modulus = 2e9;
+  Mat3 F = Mat3::identity(), be = Mat3::identity();
+  double eps = 0, previous_eps = 0;
+  bool yielded = false;
+  for (int step = 1; step <= 400; ++step) {
+    const double dg = 5e-5;  // simple shear increments
+    Mat3 f = Mat3::identity();
+    f(0, 1) = dg;
+    F = f * F;
+    const Mat3 s = neo_hookean_plastic_stress(f, F.det(), be, eps, m);
+    const double vm = std::sqrt(1.5) * (F.det() * s).deviator().norm();
+    if (eps == 0) {
+      const Mat3 e = neo_hookean_stress(F, m.bulk_modulus, m.shear_modulus);
+      EXPECT_NEAR(s(0, 1), e(0, 1), 1e-10 * m.shear_modulus);
+      EXPECT_LE(vm, m.yield_stress * (1 + 1e-12));
+    } else {
+      yielded = true;
+      EXPECT_NEAR(vm, m.yield_stress + m.hardening_modulus * eps, 1e-10 * m.yield_stress);
+      EXPECT_GT(eps, previous_eps);
+    }
+    previous_eps = eps;
+  }
+  EXPECT_TRUE(yielded);
+  EXPECT_GT(eps, 0.005);
+}
