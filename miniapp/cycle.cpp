@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include <mpmice/halo/migrate.hpp>
 #include <mpmice/halo/reduce.hpp>
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/conserved_to_primitive.hpp>
@@ -11,6 +12,12 @@
 #include <mpmice/kernels/face_exchange.hpp>
 #include <mpmice/kernels/face_pressure.hpp>
 #include <mpmice/kernels/face_velocity.hpp>
+#include <mpmice/kernels/g2p.hpp>
+#include <mpmice/kernels/grid_update.hpp>
+#include <mpmice/kernels/internal_force.hpp>
+#include <mpmice/kernels/p2g.hpp>
+#include <mpmice/kernels/particle_sort.hpp>
+#include <mpmice/kernels/stress_update.hpp>
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/kinetic_energy_fix.hpp>
 #include <mpmice/kernels/lagrangian_values.hpp>
@@ -67,18 +74,125 @@ std::string cell_name(const Patch& p, const int* c) {
 
 Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
   const Patch& p = pb.patch();
-  for (int d = 0; d < 3; ++d) {
-    m_grad[d] = make_field("advection_gradient", p, Location::cell);
-    m_mass_grad[d] = make_field("advection_mass_gradient", p, Location::cell);
+  if (pb.material_count() > 0) {
+    for (int d = 0; d < 3; ++d) {
+      m_grad[d] = make_field("advection_gradient", p, Location::cell);
+      m_mass_grad[d] = make_field("advection_mass_gradient", p, Location::cell);
+    }
+    m_adv_mass = make_field("advected_mass", p, Location::cell, pb.material_count());
+    m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
+    m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
+    build_ice_steps();
+  } else {
+    build_mpm_steps();
+    // The first step's limit from the initial particles (stress from F = I: zero).
+    const NodeGrid grid = node_grid(p);
+    for (int s = 0; s < pb.solid_count(); ++s)
+      m_mpm_dt_limit = std::min(m_mpm_dt_limit, stress_update(grid, long(pb.particles[s].size()),
+                                                              pb.particles[s].data(), pb.solids[s], 0.0));
   }
-  m_adv_mass = make_field("advected_mass", p, Location::cell, pb.material_count());
-  m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
-  m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
-  build_steps();
   for (const auto& s : m_steps) m_runner.validate(s);
 }
 
-void Cycle::build_steps() {
+void Cycle::build_mpm_steps() {
+  Problem& pb = m_pb;
+  const Patch& p = pb.patch();
+  const NodeGrid grid = node_grid(p);
+  const int ns = pb.solid_count();
+  const bool gimp = pb.input.mpm.gimp;
+  const double pic = pb.input.mpm.pic_fraction;
+  const auto g = pb.input.mpm.gravity;
+  const Kokkos::Array<double, 3> gravity{g[0], g[1], g[2]};
+  const FaceBcs velocity_bcs = pb.input.boundary.velocity;
+  const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
+  const double& dt = m_dt;
+
+  auto sums_out = [](const std::string& name) {
+    Writes w;
+    for (const auto& c : components(name)) w.push_back({c, 0, 1});
+    return w;
+  };
+  // Step 1 (E12)
+  m_steps.push_back(Step{
+      "p2g", {},
+      cat<FieldWrite>({{{"mass_NC", 0, 1}, {"heat_NC", 0, 1}, {"volume_NC", 0, 1}}, sums_out("mom_NC"),
+                       sums_out("fext_NC")}),
+      [this, grid, gimp, ns](const StepContext& ctx) {
+        const NodeSums sums{ctx.write<Field4>("mass_NC"), write_vec(ctx, "mom_NC"), ctx.write<Field4>("heat_NC"),
+                            ctx.write<Field4>("volume_NC"), write_vec(ctx, "fext_NC")};
+        for (int s = 0; s < ns; ++s) {
+          const ParticleSet& ps = m_pb.particles[s];
+          if (gimp) p2g<GimpShape>(grid, long(ps.size()), ps.data(), s, sums);
+          else p2g<LinearShape>(grid, long(ps.size()), ps.data(), s, sums);
+        }
+      }});
+  // Step 12 (E24)
+  m_steps.push_back(Step{"internal_force", {}, sums_out("fint_NC"), [this, grid, gimp, ns](const StepContext& ctx) {
+                           const VectorField4 fint = write_vec(ctx, "fint_NC");
+                           for (int s = 0; s < ns; ++s) {
+                             const ParticleSet& ps = m_pb.particles[s];
+                             if (gimp) internal_force<GimpShape>(grid, long(ps.size()), ps.data(), s, fint);
+                             else internal_force<LinearShape>(grid, long(ps.size()), ps.data(), s, fint);
+                           }
+                         }});
+  // Steps 14 and 20's node conditions (E26)
+  m_steps.push_back(Step{
+      "grid_update",
+      cat<FieldRead>({{{"mass_NC", 0}, {"heat_NC", 0}}, vec("mom_NC", 0), vec("fint_NC", 0), vec("fext_NC", 0)}),
+      cat<FieldWrite>({vec_out("vel_NC"), {{"temp_NC"}}, vec_out("vel_star_NC"), vec_out("acc_NC")}),
+      [this, p, nodes, gravity, velocity_bcs, ns, &dt](const StepContext& ctx) {
+        const auto mass = ctx.read<Field4>("mass_NC");
+        const auto vel = write_vec(ctx, "vel_NC");
+        const auto vel_star = write_vec(ctx, "vel_star_NC");
+        const auto acc = write_vec(ctx, "acc_NC");
+        for (int s = 0; s < ns; ++s) {
+          node_velocity_temperature(nodes, s, mass, read_vec(ctx, "mom_NC"), ctx.read<Field4>("heat_NC"), vel,
+                                    ctx.write<Field4>("temp_NC"));
+          const bool rigid = m_pb.solids[s].type == SolidModelType::rigid;
+          grid_acceleration(nodes, s, dt, gravity, rigid, mass, ConstVectorField4{vel[0], vel[1], vel[2]},
+                            read_vec(ctx, "fint_NC"), read_vec(ctx, "fext_NC"), vel_star, acc);
+          if (!rigid) node_velocity_bcs(p, nodes, s, dt, velocity_bcs, vel, vel_star, acc);
+        }
+      }});
+  // Steps 21-22 (E35, E36)
+  m_steps.push_back(Step{
+      "g2p", cat<FieldRead>({vec("vel_star_NC", 1), vec("acc_NC", 1)}), {},
+      [this, grid, gimp, pic, ns, &dt](const StepContext& ctx) {
+        const auto vel_star = read_vec(ctx, "vel_star_NC");
+        const auto acc = read_vec(ctx, "acc_NC");
+        for (int s = 0; s < ns; ++s) {
+          const SolidModel& model = m_pb.solids[s];
+          const bool rigid = model.type == SolidModelType::rigid;
+          const bool moving = m_time < model.stop_time;
+          Kokkos::Array<double, 3> v{0, 0, 0};
+          for (int d = 0; d < 3; ++d) v[d] = moving ? model.prescribed_velocity[d] : 0.0;
+          const ParticleSet& ps = m_pb.particles[s];
+          if (gimp) g2p<GimpShape>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star, acc);
+          else g2p<LinearShape>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star, acc);
+        }
+      }});
+  // Step 23 (E53, E54, E58)
+  m_steps.push_back(Step{"stress_update", {}, {}, [this, grid, ns, &dt](const StepContext&) {
+                           double limit = 1e300;
+                           for (int s = 0; s < ns; ++s)
+                             limit = std::min(limit, stress_update(grid, long(m_pb.particles[s].size()),
+                                                                   m_pb.particles[s].data(), m_pb.solids[s], dt));
+                           m_mpm_dt_limit = limit;
+                         }});
+  // Step 27: particles to the patches that own them; lost ones counted.
+  m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns](const StepContext&) {
+                           long lost = 0;
+                           const long interval = m_pb.input.mpm.sort_interval;
+                           for (int s = 0; s < ns; ++s) {
+                             lost += migrate(*m_pb.decomposition, m_pb.particles[s]).left_domain;
+                             if (interval > 0 && (m_pb.step + 1) % interval == 0)
+                               sort_particles_by_cell(m_pb.patch(), m_pb.particles[s]);
+                           }
+                           m_pb.particles_left_domain += global_sum(m_pb.decomposition->comm(), lost);
+                         }});
+}
+
+void Cycle::build_ice_steps() {
   Problem& pb = m_pb;
   const Patch& p = pb.patch();
   const MaterialTable mats = pb.materials;
@@ -316,8 +430,13 @@ void Cycle::build_steps() {
                          [this](const StepContext&) { fill_state_extra_cells(m_pb, "_new"); }});
 }
 
-void Cycle::advance(double dt) {
+void Cycle::advance(double time, double dt) {
   m_dt = dt;
+  m_time = time;
+  if (m_pb.material_count() == 0) {
+    for (const Step& s : m_steps) m_runner.run(s);
+    return;
+  }
   for (const Step& s : m_steps) m_runner.run(s);
   // The new state becomes the old: t^{n+1} -> t^n.
   for (const std::string name : {"rho_CC", "temp_CC", "sp_vol_CC", "press_CC"})
@@ -329,6 +448,8 @@ void Cycle::advance(double dt) {
 
 double Cycle::stable_timestep() const {
   const Patch& p = m_pb.patch();
+  if (m_pb.material_count() == 0)
+    return m_pb.input.time.cfl * global_min(m_pb.decomposition->comm(), m_mpm_dt_limit);
   const VectorField4 vel = vector_field(m_pb.fields, "vel_CC");
   const double dt = ice_timestep(p.owned_cells(), {p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]},
                                  m_pb.input.time.cfl, m_pb.materials, m_pb.fields.get<Field4>("sp_vol_CC"),

@@ -23,20 +23,24 @@ class Cycle {
  public:
   explicit Cycle(Problem& problem);
 
-  /// Advance the state from t^n to t^n + dt. Throws RedoStep or InvariantError.
-  void advance(double dt);
-  /// The acoustic timestep limit of the current state (E57), over all ranks.
+  /// Advance the state from t^n = `time` to t^n + dt. Throws RedoStep or
+  /// InvariantError.
+  void advance(double time, double dt);
+  /// The stable timestep of the current state, over all ranks: acoustic (E57) for
+  /// fluids, dilatational wave speed (E58) for solids, times time.cfl.
   double stable_timestep() const;
 
   const std::vector<Step>& steps() const { return m_steps; }
   const StepRunner& runner() const { return m_runner; }
 
  private:
-  void build_steps();
+  void build_ice_steps();
+  void build_mpm_steps();
   Problem& m_pb;
   StepRunner m_runner;
   std::vector<Step> m_steps;
-  double m_dt = 0;
+  double m_dt = 0, m_time = 0;
+  double m_mpm_dt_limit = 1e300;  // from the last stress update (E58)
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;
   Field4 m_adv_mass, m_adv_q, m_ke;

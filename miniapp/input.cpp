@@ -253,6 +253,15 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.ice.kinetic_energy_fix = ice.query<bool>("kinetic_energy_fix", true);
     ice.finish();
   }
+  // mpm options
+  if (top.has("mpm")) {
+    Reader mpm = top.map("mpm");
+    in.mpm.gimp = mpm.choice("shape", {"gimp", "linear"}, "gimp") == "gimp";
+    in.mpm.pic_fraction = mpm.number_or("pic_fraction", 0.0, 0.0, 1.0);
+    in.mpm.gravity = mpm.vector3_or("gravity", {0, 0, 0});
+    in.mpm.sort_interval = long(mpm.number_or("sort_interval", 20, 0, 1e9));
+    mpm.finish();
+  }
   // materials
   {
     YAML::Node list = top.node("materials");
@@ -267,10 +276,33 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
       mat.name = r.get<std::string>("name");
       for (const auto& other : in.materials)
         if (other.name == mat.name) r.fail("name", "'" + mat.name + "' is used by two materials");
-      r.choice("model", {"ideal_gas"});
-      mat.eos.type = EosType::ideal_gas;
-      mat.eos.gamma = r.number("gamma", 1.0, 10.0, true);
-      mat.eos.cv = r.number("cv", 0.0, big, true);
+      const std::string model =
+          r.choice("model", {"ideal_gas", "neo_hookean", "neo_hookean_plastic", "rigid"});
+      if (model == "ideal_gas") {
+        mat.eos.type = EosType::ideal_gas;
+        mat.eos.gamma = r.number("gamma", 1.0, 10.0, true);
+        mat.eos.cv = r.number("cv", 0.0, big, true);
+      } else {
+        mat.is_solid = true;
+        SolidModel& sm = mat.solid;
+        sm.type = model == "rigid" ? SolidModelType::rigid
+                  : model == "neo_hookean" ? SolidModelType::neo_hookean
+                                           : SolidModelType::neo_hookean_plastic;
+        sm.density = r.number("density", 0.0, big, true);
+        sm.cv = r.number_or("cv", 1000.0, 0.0, big, true);
+        if (sm.type == SolidModelType::rigid) {
+          const auto v = r.vector3("prescribed_velocity");
+          for (int d = 0; d < 3; ++d) sm.prescribed_velocity[d] = v[d];
+          sm.stop_time = r.number_or("stop_time", 1e300, 0.0, big);
+        } else {
+          sm.bulk_modulus = r.number("bulk_modulus", 0.0, big, true);
+          sm.shear_modulus = r.number("shear_modulus", 0.0, big);
+          if (sm.type == SolidModelType::neo_hookean_plastic) {
+            sm.yield_stress = r.number("yield_stress", 0.0, big, true);
+            sm.hardening_modulus = r.number_or("hardening_modulus", 0.0, 0.0, big);
+          }
+        }
+      }
       r.finish();
       in.materials.push_back(mat);
     }
@@ -318,14 +350,38 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
         g.radius = s.number("radius", 0.0, big, true);
         s.finish();
       }
-      g.density = r.number("density", 0.0, big, true);
-      const bool has_t = r.has("temperature"), has_p = r.has("pressure");
-      if (has_t == has_p) r.fail("", "needs exactly one of temperature and pressure");
-      const Eos& eos = in.materials[g.material].eos;
-      if (has_t)
-        g.temperature = r.number("temperature", 0.0, big, true);
-      else
-        g.temperature = r.number("pressure", 0.0, big, true) / ((eos.gamma - 1.0) * g.density * eos.cv);
+      const MaterialInput& mat = in.materials[g.material];
+      if (mat.is_solid) {
+        if (r.has("density")) r.fail("density", "is the material's (materials." + mat.name + ".density) for a solid");
+        if (r.has("pressure")) r.fail("pressure", "cannot be given for a solid; give its temperature");
+        g.density = mat.solid.density;
+        g.temperature = r.number_or("temperature", 300.0, 0.0, big, true);
+        if (r.has("particles_per_cell")) {
+          const auto ppc = r.get<std::vector<int>>("particles_per_cell");
+          if (ppc.size() != 3) r.fail("particles_per_cell", "must have 3 entries");
+          for (int d = 0; d < 3; ++d) {
+            if (ppc[d] < 1 || ppc[d] > 8) r.fail("particles_per_cell", "must be 1 to 8 in every direction");
+            g.particles_per_cell[d] = ppc[d];
+          }
+        }
+        if (r.has("velocity_sine")) {
+          Reader vs = r.map("velocity_sine");
+          g.sine_amplitude = vs.vector3("amplitude");
+          g.sine_wavenumber = vs.vector3("wavenumber");
+          vs.finish();
+        }
+      } else {
+        if (r.has("particles_per_cell")) r.fail("particles_per_cell", "is for solids; '" + mat.name + "' is a fluid");
+        if (r.has("velocity_sine")) r.fail("velocity_sine", "is for solids; '" + mat.name + "' is a fluid");
+        g.density = r.number("density", 0.0, big, true);
+        const bool has_t = r.has("temperature"), has_p = r.has("pressure");
+        if (has_t == has_p) r.fail("", "needs exactly one of temperature and pressure");
+        const Eos& eos = mat.eos;
+        if (has_t)
+          g.temperature = r.number("temperature", 0.0, big, true);
+        else
+          g.temperature = r.number("pressure", 0.0, big, true) / ((eos.gamma - 1.0) * g.density * eos.cv);
+      }
       g.velocity = r.vector3_or("velocity", {0, 0, 0});
       r.finish();
       in.geometry.push_back(g);

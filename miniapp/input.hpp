@@ -7,6 +7,7 @@
 
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/eos.hpp>
+#include <mpmice/kernels/solid_models.hpp>
 
 namespace mpmice {
 
@@ -33,9 +34,19 @@ struct IceInput {
   std::array<double, 3> gravity{0, 0, 0};  // m/s^2
 };
 
+struct MpmInput {
+  bool gimp = true;          // GIMP (E8) or linear (E6) shape functions
+  double pic_fraction = 0;   // 0: FLIP, 1: PIC
+  std::array<double, 3> gravity{0, 0, 0};  // m/s^2
+  long sort_interval = 20;   // steps between sorts of particles by cell
+};
+
+/// A fluid (ICE, `eos`) or a solid (MPM, `solid`).
 struct MaterialInput {
   std::string name;
+  bool is_solid = false;
   Eos eos;
+  SolidModel solid;
 };
 
 struct ExchangeInput {
@@ -55,6 +66,9 @@ struct GeometryPiece {
   double density = 0;                                    // kg/m^3 (micro density)
   double temperature = 0;                                // K
   std::array<double, 3> velocity{0, 0, 0};               // m/s
+  std::array<int, 3> particles_per_cell{2, 2, 2};        // solids
+  // Solids: velocity + amplitude * sin(wavenumber . x), e.g. a vibration mode.
+  std::array<double, 3> sine_amplitude{0, 0, 0}, sine_wavenumber{0, 0, 0};
   bool contains(const std::array<double, 3>& x) const;
 };
 
@@ -80,6 +94,7 @@ struct Input {
   GridInput grid;
   TimeInput time;
   IceInput ice;
+  MpmInput mpm;
   std::vector<MaterialInput> materials;
   ExchangeInput exchange;
   std::vector<GeometryPiece> geometry;

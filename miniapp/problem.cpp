@@ -21,6 +21,88 @@ VectorField4 vector_field(const FieldRegistry& fields, const std::string& name) 
 
 namespace {
 
+// The node fields of the MPM steps, one material slot per solid.
+void register_node_fields(Problem& pb) {
+  const Patch& p = pb.patch();
+  const int n = pb.solid_count();
+  for (const std::string name : {"mass_NC", "heat_NC", "volume_NC", "temp_NC"})
+    pb.fields.add(name, make_field(name, p, Location::node, n), Location::node);
+  for (const std::string name : {"mom_NC", "fext_NC", "fint_NC", "vel_NC", "vel_star_NC", "acc_NC"})
+    for (const auto& c : components(name)) pb.fields.add(c, make_field(c, p, Location::node, n), Location::node);
+}
+
+// Particles on a res_d lattice in every owned cell where the last geometry piece
+// containing the lattice point is of the solid (section 4, item 2).
+void create_particles(Problem& pb) {
+  const Input& in = pb.input;
+  const Patch& p = pb.patch();
+  const IndexBox own = p.owned_cells();
+  const double cell_volume = p.grid.cell_volume();
+  for (int s = 0; s < pb.solid_count(); ++s) {
+    const int mat = pb.mpm[s];
+    const SolidModel& model = pb.solids[s];
+    std::vector<std::array<double, particle_field_count>> rows;
+    std::vector<std::int64_t> ids;
+    for (int i = own.lo[0]; i < own.hi[0]; ++i)
+      for (int j = own.lo[1]; j < own.hi[1]; ++j)
+        for (int k = own.lo[2]; k < own.hi[2]; ++k) {
+          const int idx[3] = {i, j, k};
+          const long cell_id = (long(p.global_index(i, 0)) * p.grid.cells[1] + p.global_index(j, 1)) *
+                                   p.grid.cells[2] + p.global_index(k, 2);
+          // A cell's lattice comes from the piece of this solid covering the cell centre,
+          // or from the solid's first piece.
+          std::array<double, 3> centre;
+          for (int d = 0; d < 3; ++d) centre[d] = p.cell_center(idx[d], d);
+          int lattice = -1;
+          for (std::size_t g = 0; g < in.geometry.size(); ++g)
+            if (in.geometry[g].material == mat && (lattice < 0 || in.geometry[g].contains(centre))) lattice = int(g);
+          const auto res = in.geometry[lattice].particles_per_cell;
+          const int ppc = res[0] * res[1] * res[2];
+          for (int a = 0; a < res[0]; ++a)
+            for (int b = 0; b < res[1]; ++b)
+              for (int c = 0; c < res[2]; ++c) {
+                const int sub[3] = {a, b, c};
+                std::array<double, 3> x;
+                for (int d = 0; d < 3; ++d)
+                  x[d] = p.node_position(idx[d], d) + (sub[d] + 0.5) / res[d] * p.grid.spacing[d];
+                int owner = -1;
+                for (std::size_t g = 0; g < in.geometry.size(); ++g)
+                  if (in.geometry[g].contains(x)) owner = int(g);
+                if (owner < 0 || in.geometry[owner].material != mat) continue;
+                const GeometryPiece& piece = in.geometry[owner];
+                std::array<double, particle_field_count> row{};
+                const double phase = piece.sine_wavenumber[0] * x[0] + piece.sine_wavenumber[1] * x[1] +
+                                     piece.sine_wavenumber[2] * x[2];
+                for (int d = 0; d < 3; ++d) {
+                  row[column(ParticleField::x) + d] = x[d];
+                  row[column(ParticleField::vx) + d] = piece.velocity[d] + piece.sine_amplitude[d] * std::sin(phase);
+                  row[column(ParticleField::size_x) + d] = 1.0 / res[d];
+                  row[tensor_column(ParticleField::F00, d, d)] = 1.0;
+                  row[tensor_column(ParticleField::be00, d, d)] = 1.0;
+                }
+                if (model.type == SolidModelType::rigid)
+                  for (int d = 0; d < 3; ++d) row[column(ParticleField::vx) + d] = model.prescribed_velocity[d];
+                row[column(ParticleField::volume)] = cell_volume / ppc;
+                row[column(ParticleField::mass)] = model.density * cell_volume / ppc;
+                row[column(ParticleField::temperature)] = piece.temperature;
+                rows.push_back(row);
+                ids.push_back(cell_id * 512 + (a * 8 + b) * 8 + c);
+              }
+        }
+    ParticleSet ps(in.materials[mat].name, rows.size());
+    ps.resize(rows.size());
+    auto data = Kokkos::create_mirror_view(ps.data());
+    auto id = Kokkos::create_mirror_view(ps.id());
+    for (std::size_t q = 0; q < rows.size(); ++q) {
+      for (int c = 0; c < particle_field_count; ++c) data(q, c) = rows[q][c];
+      id(q) = ids[q];
+    }
+    Kokkos::deep_copy(ps.data(), data);
+    Kokkos::deep_copy(ps.id(), id);
+    pb.particles.push_back(std::move(ps));
+  }
+}
+
 // Every field the cycle uses (Uintah's names; _new: the state at t^{n+1}).
 void register_fields(Problem& pb) {
   const Patch& p = pb.patch();
@@ -91,9 +173,11 @@ void initialize_state(Problem& pb) {
   const VectorField4 vel_d = vector_field(pb.fields, "vel_CC");
   decltype(rho) vel[3] = {Kokkos::create_mirror_view(vel_d[0]), Kokkos::create_mirror_view(vel_d[1]),
                           Kokkos::create_mirror_view(vel_d[2])};
+  // first_piece[r]: the first piece of ICE material slot r.
   std::vector<int> first_piece(n, -1);
-  for (std::size_t g = 0; g < in.geometry.size(); ++g)
-    if (first_piece[in.geometry[g].material] < 0) first_piece[in.geometry[g].material] = int(g);
+  for (int r = 0; r < n; ++r)
+    for (std::size_t g = 0; g < in.geometry.size() && first_piece[r] < 0; ++g)
+      if (in.geometry[g].material == pb.ice[r]) first_piece[r] = int(g);
 
   const IndexBox own = p.owned_cells();
   std::vector<int> count(in.geometry.size());
@@ -126,7 +210,7 @@ void initialize_state(Problem& pb) {
         for (int m = 0; m < n; ++m) {
           int points_m = 0, piece = first_piece[m], most = -1;
           for (std::size_t g = 0; g < in.geometry.size(); ++g)
-            if (in.geometry[g].material == m) {
+            if (in.geometry[g].material == pb.ice[m]) {
               points_m += count[g];
               if (count[g] > most && count[g] > 0) {
                 most = count[g];
@@ -189,17 +273,35 @@ std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm) {
   pb->decomposition = std::make_unique<Decomposition>(comm, grid, opt);
   pb->halo = std::make_unique<Halo>(*pb->decomposition);
 
-  const int n = int(input.materials.size());
+  for (int m = 0; m < int(input.materials.size()); ++m) {
+    if (input.materials[m].is_solid) {
+      pb->mpm.push_back(m);
+      pb->solids.push_back(input.materials[m].solid);
+    } else {
+      pb->ice.push_back(m);
+    }
+  }
+  if (!pb->ice.empty() && !pb->mpm.empty())
+    throw InputError("materials", "fluids and solids together (the MPM-ICE coupling) are not implemented yet; "
+                                  "run fluids alone or solids alone");
+  const int n = int(pb->ice.size());
   pb->materials.count = n;
-  for (int m = 0; m < n; ++m) pb->materials.eos[m] = input.materials[m].eos;
+  for (int r = 0; r < n; ++r) pb->materials.eos[r] = input.materials[pb->ice[r]].eos;
+  const int all = int(input.materials.size());
   for (int r = 0; r < n; ++r)
     for (int s = 0; s < n; ++s) {
-      pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[r * n + s];
-      pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[r * n + s];
+      pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[pb->ice[r] * all + pb->ice[s]];
+      pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[pb->ice[r] * all + pb->ice[s]];
     }
-  register_fields(*pb);
-  initialize_state(*pb);
-  fill_state_extra_cells(*pb, "");
+  if (n > 0) {
+    register_fields(*pb);
+    initialize_state(*pb);
+    fill_state_extra_cells(*pb, "");
+  }
+  if (!pb->mpm.empty()) {
+    register_node_fields(*pb);
+    create_particles(*pb);
+  }
   return pb;
 }
 

@@ -10,6 +10,8 @@
 #include <mpmice/halo/steps.hpp>
 #include <mpmice/kernels/errors.hpp>
 #include <mpmice/kernels/materials.hpp>
+#include <mpmice/kernels/particles.hpp>
+#include <mpmice/kernels/solid_models.hpp>
 
 #include "input.hpp"
 
@@ -23,12 +25,23 @@ struct Problem {
   std::unique_ptr<Decomposition> decomposition;
   std::unique_ptr<Halo> halo;
   FieldRegistry fields;
+  /// The ICE materials (fluids) in input order; `ice[r]` is the input index of
+  /// cell-field material slot r.
   MaterialTable materials;
+  std::vector<int> ice;
+  /// The MPM materials (solids) in input order: `mpm[s]` is the input index of node
+  /// material slot s, with its model and particles.
+  std::vector<int> mpm;
+  std::vector<SolidModel> solids;
+  std::vector<ParticleSet> particles;
+  long particles_left_domain = 0;  // removed at non-periodic boundaries, all ranks
   double time = 0;  // s
   long step = 0;
 
   const Patch& patch() const { return decomposition->patch(); }
+  /// Number of ICE materials (cell-field material slots).
   int material_count() const { return materials.count; }
+  int solid_count() const { return int(mpm.size()); }
 };
 
 /// Decompose the grid over `comm`, allocate the fields and set the initial state

@@ -35,20 +35,21 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
   const auto& tin = input.time;
   const auto& grid = pb.patch().grid;
   if (rank == 0 && options.report)
-    fmt::print("mpmice: {} | {} x {} x {} cells on {} rank{} ({} x {} x {}), {} material{}, to t = {:g} s\n",
+    fmt::print("mpmice: {} | {} x {} x {} cells on {} rank{} ({} x {} x {}), {} fluid{}, {} solid{}, to t = {:g} s\n",
                input.file, grid.cells[0], grid.cells[1], grid.cells[2], ranks, ranks == 1 ? "" : "s",
                pb.decomposition->dims()[0], pb.decomposition->dims()[1], pb.decomposition->dims()[2],
-               pb.material_count(), pb.material_count() == 1 ? "" : "s", t_end);
+               pb.material_count(), pb.material_count() == 1 ? "" : "s", pb.solid_count(),
+               pb.solid_count() == 1 ? "" : "s", t_end);
   diagnostics.record(pb, 0.0);
 
   const auto start = clock::now();
   auto last_print = start;
   double dt = std::min(tin.dt_initial, tin.dt_max);
-  long redone = 0;
+  long redone = 0, reported_lost = 0;
   while (pb.time < t_end * (1 - 1e-14) && pb.step < max_steps) {
     if (pb.time + dt > t_end) dt = t_end - pb.time;
     try {
-      cycle.advance(dt);
+      cycle.advance(pb.time, dt);
     } catch (const RedoStep& e) {
       ++redone;
       dt *= 0.5;
@@ -59,6 +60,13 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     }
     pb.time += dt;
     pb.step += 1;
+    if (pb.particles_left_domain > reported_lost) {
+      if (rank == 0)
+        fmt::print("mpmice: warning: {} particle{} left the domain by step {} (removed)\n",
+                   pb.particles_left_domain - reported_lost, pb.particles_left_domain - reported_lost == 1 ? "" : "s",
+                   pb.step);
+      reported_lost = pb.particles_left_domain;
+    }
     diagnostics.record(pb, dt);
     const double next = cycle.stable_timestep();
     dt = std::min({next, dt * (1.0 + tin.max_increase), tin.dt_max});
@@ -75,7 +83,8 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     }
   }
   const double wall = std::chrono::duration<double>(clock::now() - start).count();
-  if (input.output.final_fields) Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
+  if (input.output.final_fields && pb.material_count() > 0)
+    Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
   std::cout << std::flush;
   if (options.report) cycle.runner().print_timings(std::cout);
   if (rank == 0 && options.report) {

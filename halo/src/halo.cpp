@@ -95,8 +95,8 @@ void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
     // Extents in the other directions. Fill: directions already swept carry their
     // ghosts; later ones their interior and the extra layers beyond a domain boundary
     // (boundary values the owner computed, which no later sweep would bring).
-    // Reverse: directions not yet swept carry their ghosts, the others only what is
-    // owned.
+    // Reverse: directions not yet swept carry their ghosts, the others what is owned
+    // (extra layers included).
     Slab base;
     base.nm = nm;
     const IndexBox computed = p.with_extra(loc, depth);
@@ -108,8 +108,10 @@ void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
         base.box.lo[e] = G - depth;
         base.box.hi[e] = G + p.owned_cells(e) + nl + depth;
       } else if (reverse) {
-        base.box.lo[e] = G;
-        base.box.hi[e] = G + p.owned_cells(e) + (nl && p.owns_high_boundary[e]);
+        // Owned and extra entries: a contribution to an extra node beyond a domain
+        // boundary (GIMP near the boundary) belongs to the patch it borders.
+        base.box.lo[e] = computed.lo[e];
+        base.box.hi[e] = computed.hi[e];
       } else {
         base.box.lo[e] = computed.lo[e];
         base.box.hi[e] = std::max(computed.hi[e], G + p.owned_cells(e) + nl);

@@ -56,9 +56,13 @@ void StepRunner::validate(const Step& step) const {
                              " ghost layers of '" + r.field + "', the patch has " +
                              std::to_string(G));
   }
-  for (const auto& w : step.writes)
+  for (const auto& w : step.writes) {
     if (!m_fields.contains(w.field))
       throw std::logic_error("step '" + step.name + "' writes unknown field '" + w.field + "'");
+    if (w.sum_ghosts < 0 || w.sum_ghosts > G)
+      throw std::logic_error("step '" + step.name + "' sums " + std::to_string(w.sum_ghosts) +
+                             " ghost layers of '" + w.field + "', the patch has " + std::to_string(G));
+  }
 }
 
 void StepRunner::run(const Step& step) {
@@ -83,11 +87,17 @@ void StepRunner::run(const Step& step) {
   step.run(StepContext(step, m_fields));
   Kokkos::fence();
   const auto t2 = clock::now();
-  for (const auto& w : step.writes) m_fields.entry(w.field).valid_ghosts = w.valid_ghosts;
+  for (const auto& w : step.writes) {
+    FieldRegistry::Entry& e = m_fields.entry(w.field);
+    if (w.sum_ghosts > 0)
+      std::visit([&](const auto& view) { m_halo.sum_into_owned(view, e.loc, w.sum_ghosts); }, e.view);
+    e.valid_ghosts = w.sum_ghosts > 0 ? 0 : w.valid_ghosts;
+  }
+  const auto t3 = clock::now();
 
   t.calls += 1;
-  t.ghost_seconds += std::chrono::duration<double>(t1 - t0).count();
-  t.seconds += std::chrono::duration<double>(t2 - t0).count();
+  t.ghost_seconds += std::chrono::duration<double>((t1 - t0) + (t3 - t2)).count();
+  t.seconds += std::chrono::duration<double>(t3 - t0).count();
 }
 
 void StepRunner::print_timings(std::ostream& out) const {

@@ -26,9 +26,12 @@ struct FieldRead {
 
 /// A field a step writes; `valid_ghosts` > 0 if the step computes that many ghost
 /// layers itself (redundantly), so that no exchange is needed for them.
+/// `sum_ghosts` > 0 for a scatter (particle-to-grid): the step adds into that many
+/// ghost layers, and the runner then sums them into the patches that own them.
 struct FieldWrite {
   std::string field;
   int valid_ghosts = 0;
+  int sum_ghosts = 0;
 };
 
 /// Named grid fields with their location and how many ghost layers are valid.
