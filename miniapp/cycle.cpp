@@ -5,6 +5,10 @@
 #include <mpmice/halo/migrate.hpp>
 #include <mpmice/halo/reduce.hpp>
 #include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/cell_to_node.hpp>
+#include <mpmice/kernels/mpm_lagrangian_values.hpp>
+#include <mpmice/kernels/node_to_cell.hpp>
+#include <mpmice/kernels/particle_pressure.hpp>
 #include <mpmice/kernels/conserved_to_primitive.hpp>
 #include <mpmice/kernels/errors.hpp>
 #include <mpmice/kernels/equilibrate_pressure.hpp>
@@ -72,9 +76,30 @@ std::string cell_name(const Patch& p, const int* c) {
 
 }  // namespace
 
+namespace {
+
+// Call f with the shape function type the input chose.
+template <class F>
+void with_shape(bool gimp, F&& f) {
+  if (gimp)
+    f(GimpShape{});
+  else
+    f(LinearShape{});
+}
+
+// Boundary conditions for the MPM cell rates in extra cells: mirrored across symmetry
+// planes (normal component negated), zero gradient elsewhere (E33).
+FaceBcs mirror_or_zero_gradient(const FaceBcs& velocity) {
+  FaceBcs out;
+  for (int f = 0; f < 6; ++f) out[f].kind = velocity[f].kind == BcKind::symmetry ? BcKind::symmetry : BcKind::neumann;
+  return out;
+}
+
+}  // namespace
+
 Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
   const Patch& p = pb.patch();
-  if (pb.material_count() > 0) {
+  if (pb.has_cells()) {
     for (int d = 0; d < 3; ++d) {
       m_grad[d] = make_field("advection_gradient", p, Location::cell);
       m_mass_grad[d] = make_field("advection_mass_gradient", p, Location::cell);
@@ -82,37 +107,38 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
     m_adv_mass = make_field("advected_mass", p, Location::cell, pb.material_count());
     m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
     m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
-    build_ice_steps();
-  } else {
-    build_mpm_steps();
+  }
+  if (pb.solid_count() > 0) {
     // The first step's limit from the initial particles (stress from F = I: zero).
     const NodeGrid grid = node_grid(p);
     for (int s = 0; s < pb.solid_count(); ++s)
       m_mpm_dt_limit = std::min(m_mpm_dt_limit, stress_update(grid, long(pb.particles[s].size()),
                                                               pb.particles[s].data(), pb.solids[s], 0.0));
   }
+  const bool cells = pb.has_cells(), solids = pb.solid_count() > 0;
+  if (solids) add_particle_to_grid_steps();
+  if (cells && solids) add_node_to_cell_step();
+  if (cells) add_pressure_steps();
+  if (solids) add_force_steps();
+  if (cells) add_lagrangian_steps();
+  if (solids) add_particle_update_steps();
+  if (cells) add_advection_steps();
   for (const auto& s : m_steps) m_runner.validate(s);
 }
 
-void Cycle::build_mpm_steps() {
-  Problem& pb = m_pb;
-  const Patch& p = pb.patch();
+// Step 1 (E12) and the node velocity and temperature; Steps 12 and 14 come later.
+void Cycle::add_particle_to_grid_steps() {
+  const Patch& p = m_pb.patch();
   const NodeGrid grid = node_grid(p);
-  const int ns = pb.solid_count();
-  const bool gimp = pb.input.mpm.gimp;
-  const double pic = pb.input.mpm.pic_fraction;
-  const auto g = pb.input.mpm.gravity;
-  const Kokkos::Array<double, 3> gravity{g[0], g[1], g[2]};
-  const FaceBcs velocity_bcs = pb.input.boundary.velocity;
+  const int ns = m_pb.solid_count();
+  const bool gimp = m_pb.input.mpm.gimp;
   const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
-  const double& dt = m_dt;
-
+  const FaceBcs velocity_bcs = m_pb.input.boundary.velocity;
   auto sums_out = [](const std::string& name) {
     Writes w;
     for (const auto& c : components(name)) w.push_back({c, 0, 1});
     return w;
   };
-  // Step 1 (E12)
   m_steps.push_back(Step{
       "p2g", {},
       cat<FieldWrite>({{{"mass_NC", 0, 1}, {"heat_NC", 0, 1}, {"volume_NC", 0, 1}}, sums_out("mom_NC"),
@@ -122,77 +148,52 @@ void Cycle::build_mpm_steps() {
                             ctx.write<Field4>("volume_NC"), write_vec(ctx, "fext_NC")};
         for (int s = 0; s < ns; ++s) {
           const ParticleSet& ps = m_pb.particles[s];
-          if (gimp) p2g<GimpShape>(grid, long(ps.size()), ps.data(), s, sums);
-          else p2g<LinearShape>(grid, long(ps.size()), ps.data(), s, sums);
+          with_shape(gimp, [&](auto shape) { p2g<decltype(shape)>(grid, long(ps.size()), ps.data(), s, sums); });
         }
       }});
-  // Step 12 (E24)
-  m_steps.push_back(Step{"internal_force", {}, sums_out("fint_NC"), [this, grid, gimp, ns](const StepContext& ctx) {
-                           const VectorField4 fint = write_vec(ctx, "fint_NC");
-                           for (int s = 0; s < ns; ++s) {
-                             const ParticleSet& ps = m_pb.particles[s];
-                             if (gimp) internal_force<GimpShape>(grid, long(ps.size()), ps.data(), s, fint);
-                             else internal_force<LinearShape>(grid, long(ps.size()), ps.data(), s, fint);
-                           }
-                         }});
-  // Steps 14 and 20's node conditions (E26)
   m_steps.push_back(Step{
-      "grid_update",
-      cat<FieldRead>({{{"mass_NC", 0}, {"heat_NC", 0}}, vec("mom_NC", 0), vec("fint_NC", 0), vec("fext_NC", 0)}),
-      cat<FieldWrite>({vec_out("vel_NC"), {{"temp_NC"}}, vec_out("vel_star_NC"), vec_out("acc_NC")}),
-      [this, p, nodes, gravity, velocity_bcs, ns, &dt](const StepContext& ctx) {
-        const auto mass = ctx.read<Field4>("mass_NC");
+      "node_velocity", cat<FieldRead>({{{"mass_NC", 0}, {"heat_NC", 0}}, vec("mom_NC", 0)}),
+      cat<FieldWrite>({vec_out("vel_NC"), {{"temp_NC"}}}), [=](const StepContext& ctx) {
         const auto vel = write_vec(ctx, "vel_NC");
-        const auto vel_star = write_vec(ctx, "vel_star_NC");
-        const auto acc = write_vec(ctx, "acc_NC");
         for (int s = 0; s < ns; ++s) {
-          node_velocity_temperature(nodes, s, mass, read_vec(ctx, "mom_NC"), ctx.read<Field4>("heat_NC"), vel,
-                                    ctx.write<Field4>("temp_NC"));
-          const bool rigid = m_pb.solids[s].type == SolidModelType::rigid;
-          grid_acceleration(nodes, s, dt, gravity, rigid, mass, ConstVectorField4{vel[0], vel[1], vel[2]},
-                            read_vec(ctx, "fint_NC"), read_vec(ctx, "fext_NC"), vel_star, acc);
-          if (!rigid) node_velocity_bcs(p, nodes, s, dt, velocity_bcs, vel, vel_star, acc);
+          node_velocity_temperature(nodes, s, ctx.read<Field4>("mass_NC"), read_vec(ctx, "mom_NC"),
+                                    ctx.read<Field4>("heat_NC"), vel, ctx.write<Field4>("temp_NC"));
+          // Symmetry planes: no normal velocity (Step 1's node conditions).
+          node_symmetry(p, nodes, s, velocity_bcs, vel);
         }
       }});
-  // Steps 21-22 (E35, E36)
-  m_steps.push_back(Step{
-      "g2p", cat<FieldRead>({vec("vel_star_NC", 1), vec("acc_NC", 1)}), {},
-      [this, grid, gimp, pic, ns, &dt](const StepContext& ctx) {
-        const auto vel_star = read_vec(ctx, "vel_star_NC");
-        const auto acc = read_vec(ctx, "acc_NC");
-        for (int s = 0; s < ns; ++s) {
-          const SolidModel& model = m_pb.solids[s];
-          const bool rigid = model.type == SolidModelType::rigid;
-          const bool moving = m_time < model.stop_time;
-          Kokkos::Array<double, 3> v{0, 0, 0};
-          for (int d = 0; d < 3; ++d) v[d] = moving ? model.prescribed_velocity[d] : 0.0;
-          const ParticleSet& ps = m_pb.particles[s];
-          if (gimp) g2p<GimpShape>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star, acc);
-          else g2p<LinearShape>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star, acc);
-        }
-      }});
-  // Step 23 (E53, E54, E58)
-  m_steps.push_back(Step{"stress_update", {}, {}, [this, grid, ns, &dt](const StepContext&) {
-                           double limit = 1e300;
-                           for (int s = 0; s < ns; ++s)
-                             limit = std::min(limit, stress_update(grid, long(m_pb.particles[s].size()),
-                                                                   m_pb.particles[s].data(), m_pb.solids[s], dt));
-                           m_mpm_dt_limit = limit;
-                         }});
-  // Step 27: particles to the patches that own them; lost ones counted.
-  m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns](const StepContext&) {
-                           long lost = 0;
-                           const long interval = m_pb.input.mpm.sort_interval;
-                           for (int s = 0; s < ns; ++s) {
-                             lost += migrate(*m_pb.decomposition, m_pb.particles[s]).left_domain;
-                             if (interval > 0 && (m_pb.step + 1) % interval == 0)
-                               sort_particles_by_cell(m_pb.patch(), m_pb.particles[s]);
-                           }
-                           m_pb.particles_left_domain += global_sum(m_pb.decomposition->comm(), lost);
-                         }});
 }
 
-void Cycle::build_ice_steps() {
+// Step 2 (E13): the solids' cell state from their nodes.
+void Cycle::add_node_to_cell_step() {
+  const Patch& p = m_pb.patch();
+  const double V = p.grid.cell_volume();
+  const IndexBox owned = p.owned_cells();
+  const BoundaryInput bc = m_pb.input.boundary;
+  m_steps.push_back(Step{
+      "node_to_cell",
+      cat<FieldRead>({{{"mass_NC", 1}, {"temp_NC", 1}, {"NC_CCweight", 1}, {"press_CC", 0}}, vec("vel_NC", 1)}),
+      cat<FieldWrite>({{{"rho_CC"}, {"temp_CC"}, {"sp_vol_CC"}}, vec_out("vel_CC")}), [=](const StepContext& ctx) {
+        const auto rho = ctx.write<Field4>("rho_CC");
+        const auto vel = write_vec(ctx, "vel_CC");
+        const auto temp = ctx.write<Field4>("temp_CC");
+        const auto sp_vol = ctx.write<Field4>("sp_vol_CC");
+        for (int s = 0; s < m_pb.solid_count(); ++s) {
+          const int m = m_pb.mpm[s];
+          node_to_cell(owned, V, s, m, m_pb.materials.eos[m], ctx.read<Field3>("NC_CCweight"),
+                       ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), ctx.read<Field4>("temp_NC"),
+                       ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
+          fill_extra_cells(rho, m, p, bc.density, -1);
+          fill_extra_cells(temp, m, p, bc.temperature, -1);
+          fill_extra_cells(sp_vol, m, p, mirror_or_zero_gradient(bc.velocity), -1);
+          for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], m, p, bc.velocity, d);
+        }
+      }});
+}
+
+// Steps 3-10 (E14-E23): equilibration, face velocities and their exchange, the
+// pressure update, face pressures, momentum and energy sources.
+void Cycle::add_pressure_steps() {
   Problem& pb = m_pb;
   const Patch& p = pb.patch();
   const MaterialTable mats = pb.materials;
@@ -201,12 +202,10 @@ void Cycle::build_ice_steps() {
   const double V = p.grid.cell_volume();
   const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
   const bool second_order = pb.input.ice.second_order;
-  const bool ke_fix = pb.input.ice.kinetic_energy_fix;
   const auto gravity = pb.input.ice.gravity;
   const IndexBox owned = p.owned_cells(), with_extra = p.cells_with_extra();
   MPI_Comm comm = pb.decomposition->comm();
   const double& dt = m_dt;
-
   // Step 3 (E14-E16)
   m_steps.push_back(Step{
       "equilibrate_pressure",
@@ -237,7 +236,7 @@ void Cycle::build_ice_steps() {
         const auto out = write_vec(ctx, "vel_FC");
         for (int d = 0; d < 3; ++d) {
           const IndexBox faces = faces_around_cells(p, d);
-          face_velocity(faces, d, h[d], dt, gravity[d], n, ctx.read<Field3>("press_equil_CC"),
+          face_velocity(faces, d, h[d], dt, gravity[d], mats, ctx.read<Field3>("press_equil_CC"),
                         ctx.read<Field4>("rho_CC"), ctx.read<Field4>("sp_vol_equil_CC"), vel[d], out[d]);
           for (int m = 0; m < n; ++m) set_boundary_face_velocity(out[d], m, d, p, bc.velocity, faces);
         }
@@ -297,7 +296,7 @@ void Cycle::build_ice_steps() {
 
   // Steps 9-10 (E22, E23)
   Kokkos::Array<int, max_materials> ice_on;
-  for (int m = 0; m < max_materials; ++m) ice_on[m] = 1;
+  for (int m = 0; m < max_materials; ++m) ice_on[m] = m < n && mats.is_ice(m);
   m_steps.push_back(Step{
       "momentum_energy_sources",
       cat<FieldRead>({vec("press_FC", 0),
@@ -319,11 +318,79 @@ void Cycle::build_ice_steps() {
                       ctx.read<Field3>("delP_Dilatate"), ctx.write<Field4>("int_eng_source_CC"));
       }});
 
+}
+
+// Steps 11, 12, 14 (E11, E24, E26): the gas pressure on the particles, the internal
+// force, and the node velocity after the forces.
+void Cycle::add_force_steps() {
+  const Patch& p = m_pb.patch();
+  const NodeGrid grid = node_grid(p);
+  const int ns = m_pb.solid_count();
+  const bool gimp = m_pb.input.mpm.gimp;
+  const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
+  const auto g = m_pb.input.mpm.gravity;
+  const Kokkos::Array<double, 3> gravity{g[0], g[1], g[2]};
+  const double p_ref = m_pb.input.mpm.reference_pressure;
+  const double& dt = m_dt;
+  if (m_pb.has_cells()) {
+    m_steps.push_back(Step{"pressure_to_nodes", {{"press_CC_new", 1}}, {{"press_NC"}}, [=](const StepContext& ctx) {
+                             pressure_to_nodes(nodes, ctx.read<Field3>("press_CC_new"), ctx.write<Field3>("press_NC"));
+                           }});
+    m_steps.push_back(Step{"pressure_to_particles", {{"press_NC", 1}}, {}, [=](const StepContext& ctx) {
+                             for (int s = 0; s < ns; ++s) {
+                               if (m_pb.solids[s].type == SolidModelType::rigid) continue;
+                               const ParticleSet& ps = m_pb.particles[s];
+                               with_shape(gimp, [&](auto shape) {
+                                 particle_pressure<decltype(shape)>(grid, long(ps.size()), ps.data(), p_ref,
+                                                                    ctx.read<Field3>("press_NC"));
+                               });
+                             }
+                           }});
+  }
+  Writes fint_out;
+  for (const auto& c : components("fint_NC")) fint_out.push_back({c, 0, 1});
+  m_steps.push_back(Step{"internal_force", {}, fint_out, [=](const StepContext& ctx) {
+                           const VectorField4 fint = write_vec(ctx, "fint_NC");
+                           for (int s = 0; s < ns; ++s) {
+                             const ParticleSet& ps = m_pb.particles[s];
+                             with_shape(gimp, [&](auto shape) {
+                               internal_force<decltype(shape)>(grid, long(ps.size()), ps.data(), s, fint);
+                             });
+                           }
+                         }});
+  m_steps.push_back(Step{
+      "grid_acceleration", cat<FieldRead>({{{"mass_NC", 0}}, vec("vel_NC", 0), vec("fint_NC", 0), vec("fext_NC", 0)}),
+      cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC")}), [=, &dt](const StepContext& ctx) {
+        for (int s = 0; s < ns; ++s)
+          grid_acceleration(nodes, s, dt, gravity, m_pb.solids[s].type == SolidModelType::rigid,
+                            ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), read_vec(ctx, "fint_NC"),
+                            read_vec(ctx, "fext_NC"), write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
+      }});
+}
+
+// Steps 15-20 (E27-E34): Lagrangian values of fluids and solids, the exchange, the
+// Lagrangian specific volume, and what the exchange did to the solids carried back
+// to their nodes.
+void Cycle::add_lagrangian_steps() {
+  Problem& pb = m_pb;
+  const Patch& p = pb.patch();
+  const MaterialTable mats = pb.materials;
+  const int n = mats.count;
+  const BoundaryInput bc = pb.input.boundary;
+  const double V = p.grid.cell_volume();
+  const IndexBox owned = p.owned_cells(), with_extra = p.cells_with_extra();
+  const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
+  MPI_Comm comm = pb.decomposition->comm();
+  const bool solids = pb.solid_count() > 0;
+  const double& dt = m_dt;
+  Reads solid_reads;
+  if (solids)
+    solid_reads = cat<FieldRead>({{{"mass_NC", 1}, {"temp_NC", 1}, {"NC_CCweight", 1}}, vec("vel_star_NC", 1)});
   // Step 16 (E29)
   m_steps.push_back(Step{
       "lagrangian_values",
       cat<FieldRead>({{{"rho_CC", 0}, {"temp_CC", 0}, {"int_eng_source_CC", 0}}, vec("vel_CC", 0),
-                      vec("mom_source_CC", 0)}),
+                      vec("mom_source_CC", 0), solid_reads}),
       cat<FieldWrite>({{{"mass_L_CC"}, {"int_eng_L_CC"}}, vec_out("mom_L_CC")}),
       [=](const StepContext& ctx) {
         const auto mass = ctx.write<Field4>("mass_L_CC");
@@ -331,6 +398,15 @@ void Cycle::build_ice_steps() {
         lagrangian_momentum_energy(owned, mats, mass, read_vec(ctx, "vel_CC"), ctx.read<Field4>("temp_CC"),
                                    read_vec(ctx, "mom_source_CC"), ctx.read<Field4>("int_eng_source_CC"),
                                    write_vec(ctx, "mom_L_CC"), ctx.write<Field4>("int_eng_L_CC"));
+        // (E27): the solids' slots from their nodes.
+        for (int s = 0; s < m_pb.solid_count(); ++s) {
+          const int m = m_pb.mpm[s];
+          mpm_lagrangian_values(owned, V, s, m, mats.eos[m].cv, mats.is_rigid(m), ctx.read<Field3>("NC_CCweight"),
+                                ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_star_NC"), ctx.read<Field4>("temp_NC"),
+                                ctx.read<Field4>("rho_CC"), read_vec(ctx, "vel_CC"), ctx.read<Field4>("temp_CC"),
+                                read_vec(ctx, "mom_source_CC"), write_vec(ctx, "mom_L_CC"),
+                                ctx.write<Field4>("int_eng_L_CC"));
+        }
       }});
 
   // Step 17 (E31)
@@ -379,10 +455,113 @@ void Cycle::build_ice_steps() {
                                      ctx.read<Field4>("rho_CC"), out);
       }});
 
+  if (!solids) return;
+  // Steps 19-20 (E33, E34)
+  const FaceBcs rate_bcs = mirror_or_zero_gradient(bc.velocity);
+  m_steps.push_back(Step{
+      "solid_cell_rates",
+      cat<FieldRead>({{{"mass_L_CC", 0}, {"int_eng_L_CC", 0}, {"temp_ME_CC", 0}}, vec("mom_L_CC", 0),
+                      vec("mom_source_CC", 0), vec("vel_ME_CC", 0)}),
+      cat<FieldWrite>({vec_out("dVdt_CC"), {{"dTdt_CC"}}}), [=, &dt](const StepContext& ctx) {
+        const auto acc = write_vec(ctx, "dVdt_CC");
+        const auto rate = ctx.write<Field4>("dTdt_CC");
+        for (int s = 0; s < m_pb.solid_count(); ++s) {
+          const int m = m_pb.mpm[s];
+          mpm_cell_rates(owned, dt, s, m, mats.eos[m].cv, mats.is_rigid(m), ctx.read<Field4>("mass_L_CC"),
+                         read_vec(ctx, "mom_L_CC"), ctx.read<Field4>("int_eng_L_CC"), read_vec(ctx, "mom_source_CC"),
+                         read_vec(ctx, "vel_ME_CC"), ctx.read<Field4>("temp_ME_CC"), acc, rate);
+          for (int d = 0; d < 3; ++d) fill_extra_cells(acc[d], s, p, rate_bcs, d);
+          fill_extra_cells(rate, s, p, rate_bcs, -1);
+        }
+      }});
+  m_steps.push_back(Step{
+      "cell_to_node", cat<FieldRead>({vec("dVdt_CC", 1), {{"dTdt_CC", 1}}}),
+      cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC"), {{"temp_rate_NC"}}}),
+      [=, &dt](const StepContext& ctx) {
+        for (int s = 0; s < m_pb.solid_count(); ++s)
+          cell_rates_to_nodes(nodes, s, dt, read_vec(ctx, "dVdt_CC"), ctx.read<Field4>("dTdt_CC"),
+                              write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"), ctx.write<Field4>("temp_rate_NC"));
+      }});
+  (void)comm;
+  (void)with_extra;
+  (void)n;
+}
+
+// Steps 20 (node conditions), 21-24, 27: the particles' update, stress, migration.
+void Cycle::add_particle_update_steps() {
+  const Patch& p = m_pb.patch();
+  const NodeGrid grid = node_grid(p);
+  const int ns = m_pb.solid_count();
+  const bool gimp = m_pb.input.mpm.gimp;
+  const double pic = m_pb.input.mpm.pic_fraction;
+  const FaceBcs velocity_bcs = m_pb.input.boundary.velocity;
+  const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
+  const bool heat = m_pb.has_cells();
+  const double& dt = m_dt;
+  m_steps.push_back(Step{"node_boundary_conditions", {},
+                         cat<FieldWrite>({vec_out("vel_NC"), vec_out("vel_star_NC"), vec_out("acc_NC")}),
+                         [=, &dt](const StepContext& ctx) {
+                           for (int s = 0; s < ns; ++s)
+                             if (m_pb.solids[s].type != SolidModelType::rigid)
+                               node_velocity_bcs(p, nodes, s, dt, velocity_bcs, write_vec(ctx, "vel_NC"),
+                                                 write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
+                         }});
+  Reads g2p_reads = cat<FieldRead>({vec("vel_star_NC", 1), vec("acc_NC", 1)});
+  if (heat) g2p_reads.push_back({"temp_rate_NC", 1});
+  m_steps.push_back(Step{"g2p", g2p_reads, {}, [=, &dt](const StepContext& ctx) {
+                           const auto vel_star = read_vec(ctx, "vel_star_NC");
+                           const auto acc = read_vec(ctx, "acc_NC");
+                           const ConstField4 rate = heat ? ConstField4(ctx.read<Field4>("temp_rate_NC")) : ConstField4();
+                           for (int s = 0; s < ns; ++s) {
+                             const SolidModel& model = m_pb.solids[s];
+                             const bool rigid = model.type == SolidModelType::rigid;
+                             const bool moving = m_time < model.stop_time;
+                             Kokkos::Array<double, 3> v{0, 0, 0};
+                             for (int d = 0; d < 3; ++d) v[d] = moving ? model.prescribed_velocity[d] : 0.0;
+                             const ParticleSet& ps = m_pb.particles[s];
+                             with_shape(gimp, [&](auto shape) {
+                               g2p<decltype(shape)>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star,
+                                                    acc, rate);
+                             });
+                           }
+                         }});
+  m_steps.push_back(Step{"stress_update", {}, {}, [=, &dt](const StepContext&) {
+                           double limit = 1e300;
+                           for (int s = 0; s < ns; ++s)
+                             limit = std::min(limit, stress_update(grid, long(m_pb.particles[s].size()),
+                                                                   m_pb.particles[s].data(), m_pb.solids[s], dt));
+                           m_mpm_dt_limit = limit;
+                         }});
+  m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns](const StepContext&) {
+                           long lost = 0;
+                           const long interval = m_pb.input.mpm.sort_interval;
+                           for (int s = 0; s < ns; ++s) {
+                             lost += migrate(*m_pb.decomposition, m_pb.particles[s]).left_domain;
+                             if (interval > 0 && (m_pb.step + 1) % interval == 0)
+                               sort_particles_by_cell(m_pb.patch(), m_pb.particles[s]);
+                           }
+                           m_pb.particles_left_domain += global_sum(m_pb.decomposition->comm(), lost);
+                         }});
+}
+
+// Steps 25-27 (E37, E38): advection of the fluids, the new state's boundary values.
+void Cycle::add_advection_steps() {
+  Problem& pb = m_pb;
+  const Patch& p = pb.patch();
+  const MaterialTable mats = pb.materials;
+  const int n = mats.count;
+  const double V = p.grid.cell_volume();
+  const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
+  const bool second_order = pb.input.ice.second_order;
+  const bool ke_fix = pb.input.ice.kinetic_energy_fix;
+  const IndexBox owned = p.owned_cells();
+  MPI_Comm comm = pb.decomposition->comm();
+  const double& dt = m_dt;
   // Steps 25-26 (E37, E38)
   m_steps.push_back(Step{
       "advect_and_advance",
-      cat<FieldRead>({vec("vel_FCME", 1), {{"mass_L_CC", 2}, {"temp_ME_CC", 2}, {"sp_vol_L_CC", 2}},
+      cat<FieldRead>({vec("vel_FCME", 1),
+                      {{"mass_L_CC", 2}, {"temp_ME_CC", 2}, {"sp_vol_L_CC", 2}, {"rho_CC", 0}, {"sp_vol_equil_CC", 0}},
                       vec("vel_ME_CC", 2)}),
       cat<FieldWrite>({{{"rho_CC_new"}, {"temp_CC_new"}, {"sp_vol_CC_new"}}, vec_out("vel_CC_new")}),
       [=, &dt](const StepContext& ctx) {
@@ -396,7 +575,17 @@ void Cycle::build_ice_steps() {
         const Field4 q_out[5] = {vel_new[0], vel_new[1], vel_new[2], ctx.write<Field4>("temp_CC_new"),
                                  ctx.write<Field4>("sp_vol_CC_new")};
         const IndexBox around = p.ghosted_cells(1);
+        if (ke_fix) specific_kinetic_energy(p.ghosted_cells(2), n, vel_me, m_ke);
         for (int m = 0; m < n; ++m) {
+          if (!mats.is_ice(m)) {
+            // A solid's cell state is rebuilt from its nodes; keep the exchanged values
+            // (E13 blends with them where the solid has no mass).
+            auto slot = [m](const auto& f) { return Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL); };
+            Kokkos::deep_copy(slot(rho_new), slot(ctx.read<Field4>("rho_CC")));
+            for (int q = 0; q < 5; ++q) Kokkos::deep_copy(slot(q_out[q]), slot(q_in[q]));
+            Kokkos::deep_copy(slot(q_out[4]), slot(ctx.read<Field4>("sp_vol_equil_CC")));
+            continue;
+          }
           if (second_order) limited_gradient(around, h, mass, m, ConstField4(), GradientField(), m_mass_grad);
           advection_change(owned, h, dt, U, m, mass, ConstField4(), second_order, m_mass_grad,
                            GradientField(), m_adv_mass);
@@ -407,7 +596,6 @@ void Cycle::build_ice_steps() {
             advance_specific(owned, V, m, mass, q_in[q], m_adv_q, rho_new, q_out[q]);
           }
           if (ke_fix) {
-            if (m == 0) specific_kinetic_energy(p.ghosted_cells(2), n, vel_me, m_ke);
             if (second_order) limited_gradient(around, h, m_ke, m, mass, m_mass_grad, m_grad);
             advection_change(owned, h, dt, U, m, m_ke, mass, second_order, m_grad, m_mass_grad, m_adv_q);
             kinetic_energy_to_heat(owned, V, m, mats.eos[m].cv, mass, m_ke, m_adv_q, rho_new,
@@ -433,7 +621,7 @@ void Cycle::build_ice_steps() {
 void Cycle::advance(double time, double dt) {
   m_dt = dt;
   m_time = time;
-  if (m_pb.material_count() == 0) {
+  if (!m_pb.has_cells()) {
     for (const Step& s : m_steps) m_runner.run(s);
     return;
   }
@@ -448,13 +636,13 @@ void Cycle::advance(double time, double dt) {
 
 double Cycle::stable_timestep() const {
   const Patch& p = m_pb.patch();
-  if (m_pb.material_count() == 0)
-    return m_pb.input.time.cfl * global_min(m_pb.decomposition->comm(), m_mpm_dt_limit);
+  const double solid_limit = m_pb.input.time.cfl * global_min(m_pb.decomposition->comm(), m_mpm_dt_limit);
+  if (!m_pb.has_cells()) return solid_limit;
   const VectorField4 vel = vector_field(m_pb.fields, "vel_CC");
   const double dt = ice_timestep(p.owned_cells(), {p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]},
                                  m_pb.input.time.cfl, m_pb.materials, m_pb.fields.get<Field4>("sp_vol_CC"),
                                  m_pb.fields.get<Field4>("temp_CC"), ConstVectorField4{vel[0], vel[1], vel[2]});
-  return global_min(m_pb.decomposition->comm(), dt);
+  return std::min(global_min(m_pb.decomposition->comm(), dt), solid_limit);
 }
 
 }  // namespace mpmice

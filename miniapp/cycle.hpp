@@ -34,8 +34,15 @@ class Cycle {
   const StepRunner& runner() const { return m_runner; }
 
  private:
-  void build_ice_steps();
-  void build_mpm_steps();
+  // The cycle in the order of mpmice-algorithm.md section 5; each adds the steps of
+  // its part that the problem's materials need.
+  void add_particle_to_grid_steps();
+  void add_node_to_cell_step();
+  void add_pressure_steps();
+  void add_force_steps();
+  void add_lagrangian_steps();
+  void add_particle_update_steps();
+  void add_advection_steps();
   Problem& m_pb;
   StepRunner m_runner;
   std::vector<Step> m_steps;

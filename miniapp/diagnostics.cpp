@@ -57,12 +57,12 @@ std::vector<std::array<double, 5>> Diagnostics::totals(const Problem& pb) {
   const Patch& p = pb.patch();
   const int n = int(pb.input.materials.size());
   std::vector<double> all(5 * (n + 1), 0.0);
-  for (int r = 0; r < pb.material_count(); ++r) {
+  for (int r : pb.ice) {  // fluids from their cells, solids from their particles
     const VectorField4 vel = vector_field(pb.fields, "vel_CC");
     const MaterialTotals t = ice_totals(p.owned_cells(), p.grid.cell_volume(), r, pb.materials.eos[r].cv,
                                         pb.fields.get<Field4>("rho_CC"), pb.fields.get<Field4>("temp_CC"),
                                         ConstVectorField4{vel[0], vel[1], vel[2]});
-    for (int q = 0; q < 5; ++q) all[5 * pb.ice[r] + q] = t.value[q];
+    for (int q = 0; q < 5; ++q) all[5 * r + q] = t.value[q];
   }
   for (int s = 0; s < pb.solid_count(); ++s) {
     const MaterialTotals t = particle_totals(long(pb.particles[s].size()), pb.particles[s].data(), pb.solids[s]);
@@ -136,7 +136,7 @@ void Diagnostics::write_fields_csv(const Problem& pb, const std::string& path) {
            "specific_volume,volume_fraction,pressure\n";
     for (std::size_t r : order) {
       const double* x = &all[r * width];
-      out << long(x[0]) << "," << long(x[1]) << "," << long(x[2]) << "," << pb.input.materials[pb.ice[int(x[3])]].name;
+      out << long(x[0]) << "," << long(x[1]) << "," << long(x[2]) << "," << pb.input.materials[int(x[3])].name;
       for (int c = 4; c < width; ++c) out << "," << number(x[c]);
       out << "\n";
     }
@@ -157,7 +157,7 @@ void Diagnostics::record(const Problem& pb, double dt) {
       m_history.flush();
     }
   }
-  if (pb.input.probes.empty() || pb.material_count() == 0 ||
+  if (pb.input.probes.empty() || !pb.has_cells() ||
       (step % pb.input.output.probe_interval != 0 && step != 0))
     return;
   // Each probe's values come from the rank owning its cell; a sum collects them.
@@ -203,7 +203,7 @@ void Diagnostics::record(const Problem& pb, double dt) {
       const bool shared = name == "pressure";
       for (int m = 0; m < (shared ? 1 : n); ++m)
         m_probes << step << "," << number(pb.time) << "," << probe.name << "," << name << ","
-                 << (shared ? std::string("all") : pb.input.materials[pb.ice[m]].name) << ","
+                 << (shared ? std::string("all") : pb.input.materials[m].name) << ","
                  << number(values[pr * per_probe + q * n + m]) << "\n";
     }
   }

@@ -260,6 +260,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.mpm.pic_fraction = mpm.number_or("pic_fraction", 0.0, 0.0, 1.0);
     in.mpm.gravity = mpm.vector3_or("gravity", {0, 0, 0});
     in.mpm.sort_interval = long(mpm.number_or("sort_interval", 20, 0, 1e9));
+    in.mpm.reference_pressure = mpm.number_or("reference_pressure", 101325.0, 0.0, big, true);
     mpm.finish();
   }
   // materials
@@ -290,18 +291,27 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
                                            : SolidModelType::neo_hookean_plastic;
         sm.density = r.number("density", 0.0, big, true);
         sm.cv = r.number_or("cv", 1000.0, 0.0, big, true);
+        // Every solid has a bulk modulus: its bulk law enters the equilibration (E51).
+        sm.bulk_modulus = r.number("bulk_modulus", 0.0, big, true);
+        mat.eos.modified = r.query<bool>("modified_eos", false);
         if (sm.type == SolidModelType::rigid) {
           const auto v = r.vector3("prescribed_velocity");
           for (int d = 0; d < 3; ++d) sm.prescribed_velocity[d] = v[d];
           sm.stop_time = r.number_or("stop_time", 1e300, 0.0, big);
         } else {
-          sm.bulk_modulus = r.number("bulk_modulus", 0.0, big, true);
           sm.shear_modulus = r.number("shear_modulus", 0.0, big);
           if (sm.type == SolidModelType::neo_hookean_plastic) {
             sm.yield_stress = r.number("yield_stress", 0.0, big, true);
             sm.hardening_modulus = r.number_or("hardening_modulus", 0.0, 0.0, big);
           }
         }
+      }
+      if (mat.is_solid) {
+        mat.eos.type = EosType::solid;
+        mat.eos.rho0 = mat.solid.density;
+        mat.eos.bulk = mat.solid.bulk_modulus;
+        mat.eos.cv = mat.solid.cv;
+        mat.eos.p_ref = in.mpm.reference_pressure;
       }
       r.finish();
       in.materials.push_back(mat);

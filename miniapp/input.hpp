@@ -39,13 +39,14 @@ struct MpmInput {
   double pic_fraction = 0;   // 0: FLIP, 1: PIC
   std::array<double, 3> gravity{0, 0, 0};  // m/s^2
   long sort_interval = 20;   // steps between sorts of particles by cell
+  double reference_pressure = 101325;  // Pa: the unstressed solid's pressure (p_ref)
 };
 
 /// A fluid (ICE, `eos`) or a solid (MPM, `solid`).
 struct MaterialInput {
   std::string name;
   bool is_solid = false;
-  Eos eos;
+  Eos eos;          // a fluid's EOS; for a solid, its bulk law in the equilibration (E51, E52)
   SolidModel solid;
 };
 

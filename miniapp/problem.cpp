@@ -7,6 +7,7 @@
 #include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/errors.hpp>
 #include <mpmice/kernels/grid_state.hpp>
+#include <mpmice/kernels/node_to_cell.hpp>
 
 namespace mpmice {
 
@@ -25,10 +26,19 @@ namespace {
 void register_node_fields(Problem& pb) {
   const Patch& p = pb.patch();
   const int n = pb.solid_count();
-  for (const std::string name : {"mass_NC", "heat_NC", "volume_NC", "temp_NC"})
+  for (const std::string name : {"mass_NC", "heat_NC", "volume_NC", "temp_NC", "temp_rate_NC"})
     pb.fields.add(name, make_field(name, p, Location::node, n), Location::node);
   for (const std::string name : {"mom_NC", "fext_NC", "fint_NC", "vel_NC", "vel_star_NC", "acc_NC"})
     for (const auto& c : components(name)) pb.fields.add(c, make_field(c, p, Location::node, n), Location::node);
+  if (!pb.has_cells()) return;
+  // The coupling: node weights (E10), node pressure (E11), the solids' cell rates (E33).
+  Field3 weight = make_field("NC_CCweight", p, Location::node);
+  node_cell_weights(p, pb.input.boundary.velocity, weight);
+  pb.fields.add("NC_CCweight", weight, Location::node);
+  pb.fields.set_valid_ghosts("NC_CCweight", p.ghosts);  // computed on every node, never changes
+  pb.fields.add("press_NC", make_field("press_NC", p, Location::node), Location::node);
+  pb.fields.add("dTdt_CC", make_field("dTdt_CC", p, Location::cell, n), Location::cell);
+  for (const auto& c : components("dVdt_CC")) pb.fields.add(c, make_field(c, p, Location::cell, n), Location::cell);
 }
 
 // Particles on a res_d lattice in every owned cell where the last geometry piece
@@ -173,11 +183,9 @@ void initialize_state(Problem& pb) {
   const VectorField4 vel_d = vector_field(pb.fields, "vel_CC");
   decltype(rho) vel[3] = {Kokkos::create_mirror_view(vel_d[0]), Kokkos::create_mirror_view(vel_d[1]),
                           Kokkos::create_mirror_view(vel_d[2])};
-  // first_piece[r]: the first piece of ICE material slot r.
   std::vector<int> first_piece(n, -1);
-  for (int r = 0; r < n; ++r)
-    for (std::size_t g = 0; g < in.geometry.size() && first_piece[r] < 0; ++g)
-      if (in.geometry[g].material == pb.ice[r]) first_piece[r] = int(g);
+  for (std::size_t g = 0; g < in.geometry.size(); ++g)
+    if (first_piece[in.geometry[g].material] < 0) first_piece[in.geometry[g].material] = int(g);
 
   const IndexBox own = p.owned_cells();
   std::vector<int> count(in.geometry.size());
@@ -210,7 +218,7 @@ void initialize_state(Problem& pb) {
         for (int m = 0; m < n; ++m) {
           int points_m = 0, piece = first_piece[m], most = -1;
           for (std::size_t g = 0; g < in.geometry.size(); ++g)
-            if (in.geometry[g].material == pb.ice[m]) {
+            if (in.geometry[g].material == m) {
               points_m += count[g];
               if (count[g] > most && count[g] > 0) {
                 most = count[g];
@@ -281,19 +289,21 @@ std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm) {
       pb->ice.push_back(m);
     }
   }
-  if (!pb->ice.empty() && !pb->mpm.empty())
-    throw InputError("materials", "fluids and solids together (the MPM-ICE coupling) are not implemented yet; "
-                                  "run fluids alone or solids alone");
-  const int n = int(pb->ice.size());
+  const int n = int(input.materials.size());
   pb->materials.count = n;
-  for (int r = 0; r < n; ++r) pb->materials.eos[r] = input.materials[pb->ice[r]].eos;
-  const int all = int(input.materials.size());
+  for (int m = 0; m < n; ++m) {
+    const MaterialInput& mat = input.materials[m];
+    pb->materials.eos[m] = mat.eos;
+    pb->materials.kind[m] = !mat.is_solid ? ice_material
+                            : mat.solid.type == SolidModelType::rigid ? rigid_material
+                                                                       : mpm_material;
+  }
   for (int r = 0; r < n; ++r)
     for (int s = 0; s < n; ++s) {
-      pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[pb->ice[r] * all + pb->ice[s]];
-      pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[pb->ice[r] * all + pb->ice[s]];
+      pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[r * n + s];
+      pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[r * n + s];
     }
-  if (n > 0) {
+  if (pb->has_cells()) {
     register_fields(*pb);
     initialize_state(*pb);
     fill_state_extra_cells(*pb, "");

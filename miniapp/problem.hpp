@@ -25,9 +25,9 @@ struct Problem {
   std::unique_ptr<Decomposition> decomposition;
   std::unique_ptr<Halo> halo;
   FieldRegistry fields;
-  /// The ICE materials (fluids) in input order; `ice[r]` is the input index of
-  /// cell-field material slot r.
+  /// Every material in input order (cell slot = input index).
   MaterialTable materials;
+  /// The fluids' input indices.
   std::vector<int> ice;
   /// The MPM materials (solids) in input order: `mpm[s]` is the input index of node
   /// material slot s, with its model and particles.
@@ -39,8 +39,11 @@ struct Problem {
   long step = 0;
 
   const Patch& patch() const { return decomposition->patch(); }
-  /// Number of ICE materials (cell-field material slots).
+  /// Number of materials, fluids and solids: the cell fields' material slots (a
+  /// material's slot is its index in the input).
   int material_count() const { return materials.count; }
+  /// Cell fields exist when there is a fluid (ICE or MPMICE); solids alone need nodes.
+  bool has_cells() const { return !ice.empty(); }
   int solid_count() const { return int(mpm.size()); }
 };
 

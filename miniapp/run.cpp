@@ -38,7 +38,7 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     fmt::print("mpmice: {} | {} x {} x {} cells on {} rank{} ({} x {} x {}), {} fluid{}, {} solid{}, to t = {:g} s\n",
                input.file, grid.cells[0], grid.cells[1], grid.cells[2], ranks, ranks == 1 ? "" : "s",
                pb.decomposition->dims()[0], pb.decomposition->dims()[1], pb.decomposition->dims()[2],
-               pb.material_count(), pb.material_count() == 1 ? "" : "s", pb.solid_count(),
+               pb.ice.size(), pb.ice.size() == 1 ? "" : "s", pb.solid_count(),
                pb.solid_count() == 1 ? "" : "s", t_end);
   diagnostics.record(pb, 0.0);
 
@@ -83,7 +83,7 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     }
   }
   const double wall = std::chrono::duration<double>(clock::now() - start).count();
-  if (input.output.final_fields && pb.material_count() > 0)
+  if (input.output.final_fields && pb.has_cells())
     Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
   std::cout << std::flush;
   if (options.report) cycle.runner().print_timings(std::cout);

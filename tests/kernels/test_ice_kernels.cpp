@@ -162,3 +162,25 @@ TEST(Advection, UniformFieldIsUnchangedAndTotalsAreConserved) {
       EXPECT_NEAR(sum, 0.0, 1e-14 * (scale + 1));
     }
 }
+
+// The solid's bulk law (E51) and its tension form (E52): inverse, p_ref at rho_0, and
+// the compressive branch's dp/drho against a centred difference.
+TEST(SolidEos, InverseAndDerivative) {
+  for (bool modified : {false, true}) {
+    Eos cu;
+    cu.type = EosType::solid;
+    cu.rho0 = 8930;
+    cu.bulk = 136.35e9;
+    cu.modified = modified;
+    EXPECT_DOUBLE_EQ(eos_pressure(cu, cu.rho0, 300), cu.p_ref);
+    for (double p : {5e4, 101325.0, 1e7, 1e9, 2e10}) {
+      if (!modified && p < 1e5) continue;
+      const double rho = eos_density(cu, p, 300);
+      EXPECT_NEAR(eos_pressure(cu, rho, 300), p, 1e-9 * std::max(p, cu.p_ref)) << p;
+      // (E52) is stiff: p changes by a factor e per relative density change p_ref/K.
+      const double h = 1e-10 * rho;
+      const double fd = (eos_pressure(cu, rho + h, 300) - eos_pressure(cu, rho - h, 300)) / (2 * h);
+      EXPECT_NEAR(eos_dp_drho(cu, rho, 300), fd, 1e-4 * fd) << p;
+    }
+  }
+}

@@ -22,12 +22,15 @@ KOKKOS_INLINE_FUNCTION Mat3 deformation_increment(const Mat3& L, double dt) {
 }
 
 /// For the particles of material slot m: v_p <- (1-a)(v_p + dt sum S a_i) + a sum S v*_i,
-/// x_p += dt sum S v*_i, L_p = sum v*_i (x) grad S_ip, F <- (I + L dt/n)^n F,
-/// V_p <- V_p J_new/J_old. A rigid material moves with `rigid_velocity`.
+/// x_p += dt sum S v*_i, T_p += dt sum S aT_i (E35; `temp_rate` may be empty),
+/// L_p = sum v*_i (x) grad S_ip, F <- (I + L dt/n)^n F, V_p <- V_p J_new/J_old (E36).
+/// A rigid material moves with `rigid_velocity`.
 template <class Shape>
 void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
          double pic_fraction, bool rigid, Kokkos::Array<double, 3> rigid_velocity,
-         const ConstVectorField4& vel_star, const ConstVectorField4& acc) {
+         const ConstVectorField4& vel_star, const ConstVectorField4& acc,
+         const ConstField4& temp_rate = ConstField4()) {
+  const bool heat = temp_rate.data() != nullptr;
   Kokkos::parallel_for(
       "mpmice::g2p", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         if (rigid) {
@@ -40,7 +43,7 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
         double x[3], half[3];
         particle_position(data, p, x, half);
         const ParticleWeights<Shape> wt(x, grid.lower, grid.inv_h, half);
-        double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0};
+        double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0;
         Mat3 L = Mat3::zero();
         for (int a = 0; a < Shape::nodes; ++a)
           for (int b = 0; b < Shape::nodes; ++b)
@@ -50,6 +53,7 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
               double g[3];
               wt.gradient(a, b, c, g);
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
+              if (heat) ts += S * temp_rate(m, i, j, k);
               for (int d = 0; d < 3; ++d) {
                 const double v = vel_star[d](m, i, j, k);
                 vs[d] += S * v;
@@ -62,6 +66,7 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
           v = (1.0 - pic_fraction) * (v + dt * as[d]) + pic_fraction * vs[d];
           data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
         }
+        data(p, column(ParticleField::temperature)) += dt * ts;
         const Mat3 F = load_tensor(data, p, ParticleField::F00);
         const Mat3 F_new = deformation_increment(L, dt) * F;
         data(p, column(ParticleField::volume)) *= F_new.det() / F.det();

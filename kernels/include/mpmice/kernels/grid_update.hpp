@@ -23,6 +23,24 @@ inline void grid_acceleration(const IndexBox& nodes, int m, double dt, Kokkos::A
       });
 }
 
+/// Zero normal velocity on the node layers at and beyond each symmetry face (the
+/// Step 1 node condition on v_i).
+inline void node_symmetry(const Patch& patch, const IndexBox& nodes, int m, const FaceBcs& bcs,
+                          const VectorField4& vel) {
+  const int G = patch.ghosts;
+  for (int d = 0; d < 3; ++d)
+    for (int side = 0; side < 2; ++side) {
+      if (!patch.on_domain_boundary(d, side) || bcs[2 * d + side].kind != BcKind::symmetry) continue;
+      IndexBox box = nodes;
+      const int n = patch.owned_cells(d);
+      box.lo[d] = side == 0 ? 0 : G + n;
+      box.hi[d] = side == 0 ? G + 1 : 2 * G + n + 1;
+      const Field4 v = vel[d];
+      Kokkos::parallel_for(
+          "mpmice::node_symmetry", box.policy(), KOKKOS_LAMBDA(int i, int j, int k) { v(m, i, j, k) = 0.0; });
+    }
+}
+
 /// Velocity conditions on the node layers at and beyond each domain face: symmetry
 /// zeroes the normal component, Dirichlet sets the value (fixed: 0), Neumann leaves
 /// the node free. Where a condition acts the acceleration becomes (v* - v)/dt, with

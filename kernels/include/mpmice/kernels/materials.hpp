@@ -7,9 +7,17 @@
 
 namespace mpmice {
 
+/// What kind of material a cell-field slot holds.
+enum MaterialKind : int {
+  ice_material = 0,    ///< fluid: cell fields, advected
+  mpm_material = 1,    ///< solid: particles; cell fields rebuilt from nodes each step
+  rigid_material = 2   ///< solid with prescribed motion: no pressure force on it
+};
+
 struct MaterialTable {
   int count = 0;
   Kokkos::Array<Eos, max_materials> eos;
+  Kokkos::Array<int, max_materials> kind;
   /// Momentum exchange coefficients K_rs, kg/m^3/s, symmetric, zero diagonal.
   Kokkos::Array<double, max_materials * max_materials> momentum_exchange;
   /// Heat exchange coefficients H_rs, W/m^3/K, symmetric, zero diagonal.
@@ -18,7 +26,10 @@ struct MaterialTable {
   MaterialTable() {
     for (int i = 0; i < max_materials * max_materials; ++i)
       momentum_exchange[i] = heat_exchange[i] = 0.0;
+    for (int m = 0; m < max_materials; ++m) kind[m] = ice_material;
   }
+  KOKKOS_INLINE_FUNCTION bool is_ice(int m) const { return kind[m] == ice_material; }
+  KOKKOS_INLINE_FUNCTION bool is_rigid(int m) const { return kind[m] == rigid_material; }
   KOKKOS_INLINE_FUNCTION double K(int r, int s) const { return momentum_exchange[r * max_materials + s]; }
   KOKKOS_INLINE_FUNCTION double H(int r, int s) const { return heat_exchange[r * max_materials + s]; }
 };

@@ -6,7 +6,7 @@
 
 namespace mpmice {
 
-/// min over cells, ICE materials and directions of h_d / (c + |u_d|), times `cfl`.
+/// min over cells, ICE (fluid) materials and directions of h_d / (c + |u_d|), times `cfl`.
 /// c from the EOS at rhoM = 1/v and T (E47).
 inline double ice_timestep(const IndexBox& cells, const Kokkos::Array<double, 3> h, double cfl,
                            const MaterialTable& mats, const ConstField4& sp_vol,
@@ -16,6 +16,7 @@ inline double ice_timestep(const IndexBox& cells, const Kokkos::Array<double, 3>
       "mpmice::ice_timestep", cells.policy(),
       KOKKOS_LAMBDA(int i, int j, int k, double& lim) {
         for (int m = 0; m < mats.count; ++m) {
+          if (!mats.is_ice(m)) continue;  // solids limit the step through (E58)
           const double c = math::sqrt(
               eos_sound_speed_squared(mats.eos[m], 1.0 / sp_vol(m, i, j, k), temp(m, i, j, k)));
           for (int d = 0; d < 3; ++d) {

@@ -1,0 +1,60 @@
+#pragma once
+/// \file mpm_lagrangian_values.hpp
+/// \brief Steps 15 and 19 of MPMICE: the MPM materials' cell momentum and energy
+///        after the Lagrangian phase from their nodes (E27), and, after the exchange,
+///        the cell-centred rates the nodes have not seen yet (E33).
+#include <mpmice/kernels/constants.hpp>
+#include <mpmice/kernels/grid.hpp>
+
+namespace mpmice {
+
+/// (E27) for node slot s, cell material m: P_mpm = sum_i w_i m_i v*_i + Q_r,
+/// E_mpm = sum_i w_i m_i c_v T*_i (+ W_r = 0), blended with the cell's own
+/// m_r u_r and m_r c_v T_r by z = (m_r - m_small)/m_r; mL = m_r. A rigid material
+/// gets no Q. Overwrites slot m of mom_L and int_eng_L on `cells`.
+inline void mpm_lagrangian_values(const IndexBox& cells, double cell_volume, int s, int m, double cv,
+                                  bool rigid, const ConstField3& weight, const ConstField4& node_mass,
+                                  const ConstVectorField4& node_vel_star, const ConstField4& node_temp,
+                                  const ConstField4& rho, const ConstVectorField4& vel, const ConstField4& temp,
+                                  const ConstVectorField4& mom_source, const VectorField4& mom_L,
+                                  const Field4& int_eng_L) {
+  const double m_small = tiny_rho * cell_volume;
+  Kokkos::parallel_for(
+      "mpmice::mpm_lagrangian_values", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double p_mpm[3] = {0, 0, 0}, e_mpm = 0;
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c) {
+              const double wm = weight(i + a, j + b, k + c) * node_mass(s, i + a, j + b, k + c);
+              for (int d = 0; d < 3; ++d) p_mpm[d] += wm * node_vel_star[d](s, i + a, j + b, k + c);
+              e_mpm += wm * cv * node_temp(s, i + a, j + b, k + c);
+            }
+        const double mass = rho(m, i, j, k) * cell_volume;
+        const double z = (mass - m_small) / mass;
+        for (int d = 0; d < 3; ++d) {
+          const double q = rigid ? 0.0 : mom_source[d](m, i, j, k);
+          mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + q);
+        }
+        int_eng_L(m, i, j, k) = (1.0 - z) * mass * cv * temp(m, i, j, k) + z * e_mpm;
+      });
+}
+
+/// (E33) for cell material m into rate slot s: aV = (PME - (PL - Q))/(mL dt) (0 for a
+/// rigid material), aT = (EME - (EL - W))/(mL c_v dt) with PME = mL u_ME,
+/// EME = mL c_v T_ME, W = 0 for solids.
+inline void mpm_cell_rates(const IndexBox& cells, double dt, int s, int m, double cv, bool rigid,
+                           const ConstField4& mass_L, const ConstVectorField4& mom_L, const ConstField4& int_eng_L,
+                           const ConstVectorField4& mom_source, const ConstVectorField4& vel_me,
+                           const ConstField4& temp_me, const VectorField4& cell_acc, const Field4& cell_temp_rate) {
+  Kokkos::parallel_for(
+      "mpmice::mpm_cell_rates", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double mass = mass_L(m, i, j, k);
+        for (int d = 0; d < 3; ++d)
+          cell_acc[d](s, i, j, k) =
+              rigid ? 0.0
+                    : (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
+        cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
+      });
+}
+
+}  // namespace mpmice

@@ -1,0 +1,65 @@
+#pragma once
+/// \file node_to_cell.hpp
+/// \brief Step 2 of MPMICE: the MPM materials' cell mass, velocity and temperature
+///        from their node values (E10, E13), so that solids join the pressure
+///        equilibration and the exchange.
+#include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/constants.hpp>
+#include <mpmice/kernels/eos.hpp>
+
+namespace mpmice {
+
+/// w_i = 1/8, doubled once per symmetry plane the node lies on (E10): such nodes get
+/// mass from one side only. Over every node of the patch.
+inline void node_cell_weights(const Patch& patch, const FaceBcs& velocity_bcs, const Field3& weight) {
+  const int G = patch.ghosts;
+  int plane[3][2];
+  for (int d = 0; d < 3; ++d)
+    for (int side = 0; side < 2; ++side)
+      plane[d][side] = patch.on_domain_boundary(d, side) && velocity_bcs[2 * d + side].kind == BcKind::symmetry
+                           ? (side == 0 ? G : G + patch.owned_cells(d))
+                           : -1;
+  const int px0 = plane[0][0], px1 = plane[0][1], py0 = plane[1][0], py1 = plane[1][1], pz0 = plane[2][0],
+            pz1 = plane[2][1];
+  Kokkos::parallel_for(
+      "mpmice::node_cell_weights", patch.ghosted_nodes(G).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double w = 0.125;
+        if (i == px0 || i == px1) w *= 2.0;
+        if (j == py0 || j == py1) w *= 2.0;
+        if (k == pz0 || k == pz1) w *= 2.0;
+        weight(i, j, k) = w;
+      });
+}
+
+/// (E13) for MPM node slot s, cell material m: m_r = m_small + sum_i w_i m_i,
+/// u_r = sum w m v / m_r, T_r = (1 - z) T_r^n + z sum w m T / m_r with
+/// z = (m_r - m_small)/m_r, rho_r = m_r / V. The specific volume is set from the
+/// solid's equation of state at last step's pressure, rhoM_CM(p^n, T) (pitfall P1),
+/// which is where the equilibration starts.
+inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m, const Eos& eos,
+                         const ConstField3& weight, const ConstField4& node_mass,
+                         const ConstVectorField4& node_vel, const ConstField4& node_temp,
+                         const ConstField3& press, const Field4& rho, const VectorField4& vel,
+                         const Field4& temp, const Field4& sp_vol) {
+  const double m_small = tiny_rho * cell_volume;
+  Kokkos::parallel_for(
+      "mpmice::node_to_cell", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c) {
+              const double wm = weight(i + a, j + b, k + c) * node_mass(s, i + a, j + b, k + c);
+              mass += wm;
+              for (int d = 0; d < 3; ++d) mom[d] += wm * node_vel[d](s, i + a, j + b, k + c);
+              heat += wm * node_temp(s, i + a, j + b, k + c);
+            }
+        const double z = (mass - m_small) / mass;
+        const double t = (1.0 - z) * temp(m, i, j, k) + z * heat / mass;
+        temp(m, i, j, k) = t;
+        for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = mom[d] / mass;
+        rho(m, i, j, k) = mass / cell_volume;
+        sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), t);
+      });
+}
+
+}  // namespace mpmice
