@@ -95,6 +95,17 @@ FaceBcs mirror_or_zero_gradient(const FaceBcs& velocity) {
   return out;
 }
 
+// Nodes whose 8 surrounding cells all lie in the patch's arrays (the cell-to-node
+// averages of (E11), (E34)), within the owned and extra nodes.
+IndexBox nodes_inside_cells(const Patch& p) {
+  IndexBox b = p.with_extra(Location::node, p.ghosts);
+  for (int d = 0; d < 3; ++d) {
+    b.lo[d] = std::max(b.lo[d], 1);
+    b.hi[d] = std::min(b.hi[d], p.extent(Location::cell, d));
+  }
+  return b;
+}
+
 }  // namespace
 
 Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
@@ -333,8 +344,9 @@ void Cycle::add_force_steps() {
   const double p_ref = m_pb.input.mpm.reference_pressure;
   const double& dt = m_dt;
   if (m_pb.has_cells()) {
+    const IndexBox inside = nodes_inside_cells(p);
     m_steps.push_back(Step{"pressure_to_nodes", {{"press_CC_new", 1}}, {{"press_NC"}}, [=](const StepContext& ctx) {
-                             pressure_to_nodes(nodes, ctx.read<Field3>("press_CC_new"), ctx.write<Field3>("press_NC"));
+                             pressure_to_nodes(inside, ctx.read<Field3>("press_CC_new"), ctx.write<Field3>("press_NC"));
                            }});
     m_steps.push_back(Step{"pressure_to_particles", {{"press_NC", 1}}, {}, [=](const StepContext& ctx) {
                              for (int s = 0; s < ns; ++s) {
@@ -458,6 +470,7 @@ void Cycle::add_lagrangian_steps() {
   if (!solids) return;
   // Steps 19-20 (E33, E34)
   const FaceBcs rate_bcs = mirror_or_zero_gradient(bc.velocity);
+  const IndexBox inside = nodes_inside_cells(p);
   m_steps.push_back(Step{
       "solid_cell_rates",
       cat<FieldRead>({{{"mass_L_CC", 0}, {"int_eng_L_CC", 0}, {"temp_ME_CC", 0}}, vec("mom_L_CC", 0),
@@ -479,7 +492,7 @@ void Cycle::add_lagrangian_steps() {
       cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC"), {{"temp_rate_NC"}}}),
       [=, &dt](const StepContext& ctx) {
         for (int s = 0; s < m_pb.solid_count(); ++s)
-          cell_rates_to_nodes(nodes, s, dt, read_vec(ctx, "dVdt_CC"), ctx.read<Field4>("dTdt_CC"),
+          cell_rates_to_nodes(inside, s, dt, read_vec(ctx, "dVdt_CC"), ctx.read<Field4>("dTdt_CC"),
                               write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"), ctx.write<Field4>("temp_rate_NC"));
       }});
   (void)comm;
@@ -640,7 +653,8 @@ double Cycle::stable_timestep() const {
   if (!m_pb.has_cells()) return solid_limit;
   const VectorField4 vel = vector_field(m_pb.fields, "vel_CC");
   const double dt = ice_timestep(p.owned_cells(), {p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]},
-                                 m_pb.input.time.cfl, m_pb.materials, m_pb.fields.get<Field4>("sp_vol_CC"),
+                                 m_pb.input.time.cfl, m_pb.materials, m_pb.fields.get<Field4>("rho_CC"),
+                                 m_pb.fields.get<Field4>("sp_vol_CC"),
                                  m_pb.fields.get<Field4>("temp_CC"), ConstVectorField4{vel[0], vel[1], vel[2]});
   return std::min(global_min(m_pb.decomposition->comm(), dt), solid_limit);
 }
