@@ -394,6 +394,7 @@ void Cycle::add_lagrangian_steps() {
   const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
   MPI_Comm comm = pb.decomposition->comm();
   const bool solids = pb.solid_count() > 0;
+  const bool clamp = pb.input.ice.clamp_specific_volume;
   const double& dt = m_dt;
   Reads solid_reads;
   if (solids)
@@ -459,7 +460,7 @@ void Cycle::add_lagrangian_steps() {
       [=, &dt](const StepContext& ctx) {
         const auto out = ctx.write<Field4>("sp_vol_L_CC");
         const long bad = lagrangian_specific_volume(
-            owned, V, dt, mats, ctx.read<Field4>("rho_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
+            owned, V, dt, clamp, mats, ctx.read<Field4>("rho_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
             ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>("kappa_CC"), ctx.read<Field3>("sumKappa_CC"),
             ctx.read<Field3>("delP_Dilatate"), ctx.read<Field4>("temp_CC"), ctx.read<Field4>("Tdot_CC"), out);
         if (global_sum(comm, bad) > 0) throw RedoStep("a Lagrangian specific volume is not positive (E32)");

@@ -251,6 +251,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
                           "second_order";
     in.ice.gravity = ice.vector3_or("gravity", {0, 0, 0});
     in.ice.kinetic_energy_fix = ice.query<bool>("kinetic_energy_fix", true);
+    in.ice.clamp_specific_volume = ice.query<bool>("clamp_specific_volume", false);
     ice.finish();
   }
   // mpm options

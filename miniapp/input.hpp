@@ -31,6 +31,7 @@ struct TimeInput {
 struct IceInput {
   bool second_order = true;
   bool kinetic_energy_fix = true;  // advection's lost kinetic energy becomes heat
+  bool clamp_specific_volume = false;  // (E32) VL >= TINY_RHO V v instead of a redo
   std::array<double, 3> gravity{0, 0, 0};  // m/s^2
 };
 

@@ -46,12 +46,14 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
   auto last_print = start;
   double dt = std::min(tin.dt_initial, tin.dt_max);
   long redone = 0, reported_lost = 0;
+  std::string last_redo_reason;
   while (pb.time < t_end * (1 - 1e-14) && pb.step < max_steps) {
     if (pb.time + dt > t_end) dt = t_end - pb.time;
     try {
       cycle.advance(pb.time, dt);
     } catch (const RedoStep& e) {
       ++redone;
+      last_redo_reason = e.what();
       dt *= 0.5;
       if (dt < tin.dt_min)
         throw InvariantError(std::string("step ") + std::to_string(pb.step + 1) + ": " + e.what() +
@@ -91,7 +93,8 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     const double cell_steps = double(grid.cell_count()) * pb.step;
     fmt::print("mpmice: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} cell-steps/s{}); output in {}\n",
                pb.step, pb.time, wall, wall > 0 ? cell_steps / wall : 0.0,
-               redone ? fmt::format(", {} steps redone with a smaller dt", redone) : "",
+               redone ? fmt::format(", {} steps redone with a smaller dt, the last because {}", redone, last_redo_reason)
+                      : "",
                options.output_dir);
   }
   return problem;

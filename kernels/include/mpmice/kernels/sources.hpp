@@ -41,8 +41,10 @@ inline void energy_source(const IndexBox& cells, int materials,
   Kokkos::parallel_for(
       "mpmice::energy_source", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
         const double pdp = tmv(i, j, k) * press(i, j, k) * del_p_dilatate(i, j, k);
-        for (int m = 0; m < materials; ++m)
-          int_eng_source(m, i, j, k) = work_on[m] ? pdp * vol_frac(m, i, j, k) * kappa(m, i, j, k) : 0.0;
+        for (int m = 0; m < materials; ++m) {
+          const double theta = vol_frac(m, i, j, k);
+          int_eng_source(m, i, j, k) = work_on[m] && theta > 1e-6 ? pdp * theta * kappa(m, i, j, k) : 0.0;
+        }
       });
 }
 

@@ -3,14 +3,16 @@
 /// \brief Step 18: the material volume carried through advection, from the
 ///        specific-volume evolution (E32, seed eq. 4), as the specific value
 ///        VL_r / mL_r that compatible advection transports.
+#include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
 
 /// VL_r = rho_r V v_r - theta_r kappa_r V dP_dil + dt V (theta_r alpha_r Tdot_r -
 /// ftheta_r X), X = sum_s theta_s alpha_s Tdot_s (E32); writes sp_vol_L = VL/mL on
-/// `cells`. Returns the number of cells where some VL_r <= 0 (the step must be redone).
-inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume, double dt,
+/// `cells`. With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the
+/// number of cells where some VL_r <= 0 (the step must be redone).
+inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume, double dt, bool clamp,
                                        const MaterialTable& mats, const ConstField4& rho,
                                        const ConstField4& sp_vol, const ConstField4& vol_frac,
                                        const ConstField4& kappa, const ConstField3& sum_kappa,
@@ -31,8 +33,10 @@ inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume
           const double theta = vol_frac(r, i, j, k), kap = kappa(r, i, j, k);
           const double alpha = eos_alpha(mats.eos[r], 1.0 / sp_vol(r, i, j, k), temp(r, i, j, k));
           const double mass = rho(r, i, j, k) * cell_volume;
-          const double vl = mass * sp_vol(r, i, j, k) - theta * kap * cell_volume * dp +
-                            dt * cell_volume * (theta * alpha * temp_rate(r, i, j, k) - theta * kap / sk * x);
+          double vl = mass * sp_vol(r, i, j, k) - theta * kap * cell_volume * dp +
+                      dt * cell_volume * (theta * alpha * temp_rate(r, i, j, k) - theta * kap / sk * x);
+          const double floor = tiny_rho * cell_volume * sp_vol(r, i, j, k);
+          if (clamp && vl < floor) vl = floor;
           if (!(vl > 0.0)) ok = false;
           sp_vol_L(r, i, j, k) = vl / mass;
         }
