@@ -9,6 +9,7 @@
 #include <mpmice/kernels/errors.hpp>
 
 #include "input.hpp"
+#include "cycle.hpp"
 #include "problem.hpp"
 #include "run.hpp"
 #include "version_info.hpp"
@@ -40,6 +41,10 @@ int run_cli(int argc, char* argv[]) {
   app.add_option("--set", overrides, "Override an input value: key.path=value (repeatable), e.g. "
                                      "--set grid.cells=[200,1,1]");
   app.add_flag("!--no-progress", options.progress, "No progress lines");
+  bool list_steps = false;
+  app.add_flag("--steps", list_steps,
+               "Print the timestep's steps for INPUT (declared reads with ghost layers, writes) as a "
+               "markdown table, and exit");
 
   try {
     app.parse(argc, argv);
@@ -61,6 +66,12 @@ int run_cli(int argc, char* argv[]) {
   }
   try {
     const Input input = load_input(input_file, overrides);
+    if (list_steps) {
+      auto problem = make_problem(input, MPI_COMM_WORLD);
+      Cycle cycle(*problem);
+      if (rank == 0) fmt::print("{}", steps_table(cycle.steps()));
+      return 0;
+    }
     run(input, options);
   } catch (const InputError& e) {
     if (rank == 0) {

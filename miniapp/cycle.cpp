@@ -1,5 +1,6 @@
 #include "cycle.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include <mpmice/halo/migrate.hpp>
@@ -630,6 +631,33 @@ void Cycle::add_advection_steps() {
                          cat<FieldWrite>({{{"rho_CC_new"}, {"temp_CC_new"}, {"sp_vol_CC_new"}, {"press_CC_new"}},
                                           vec_out("vel_CC_new")}),
                          [this](const StepContext&) { fill_state_extra_cells(m_pb, "_new"); }});
+}
+
+std::string steps_table(const std::vector<Step>& steps) {
+  // A vector's three components are listed once, as name_*.
+  auto display = [](const std::string& n) {
+    const bool component = n.size() > 2 && n[n.size() - 2] == '_' && (n.back() == 'x' || n.back() == 'y' || n.back() == 'z');
+    return component ? n.substr(0, n.size() - 1) + "*" : n;
+  };
+  auto join = [](const std::vector<std::string>& items) {
+    std::vector<std::string> seen;
+    std::string s;
+    for (const auto& item : items) {
+      if (std::find(seen.begin(), seen.end(), item) != seen.end()) continue;
+      seen.push_back(item);
+      s += (s.empty() ? "" : ", ") + item;
+    }
+    return s.empty() ? std::string("-") : s;
+  };
+  std::string table = "| # | step | reads (ghost layers) | writes (+: summed into owners) |\n|---:|---|---|---|\n";
+  int i = 0;
+  for (const Step& step : steps) {
+    std::vector<std::string> reads, writes;
+    for (const auto& r : step.reads) reads.push_back(display(r.field) + ":" + std::to_string(r.ghosts));
+    for (const auto& w : step.writes) writes.push_back(display(w.field) + (w.sum_ghosts ? "+" : ""));
+    table += "| " + std::to_string(++i) + " | `" + step.name + "` | " + join(reads) + " | " + join(writes) + " |\n";
+  }
+  return table;
 }
 
 void Cycle::advance(double time, double dt) {

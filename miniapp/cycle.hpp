@@ -19,6 +19,10 @@ struct RedoStep : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The steps as a markdown table: step, reads (field:ghost layers), writes (+: ghost
+/// contributions summed into their owners).
+std::string steps_table(const std::vector<Step>& steps);
+
 class Cycle {
  public:
   explicit Cycle(Problem& problem);
