@@ -1,0 +1,109 @@
+// Cell kernels of the ICE half at 16^3 .. 128^3 cells and 1..4 materials. Bytes per
+// item (the least a structure-of-arrays kernel must move per cell, 8 B per double,
+// counted per material unless said):
+//  equilibrate_pressure: reads rho, T, v (3), p (shared, 1); writes theta, v, c,
+//                        kappa (4), p_eq, SK, TMV (shared, 3)             -> 56 N + 32
+//  face_velocity (x):    reads rho, v, u per cell (3), p (shared); writes U^f (1)
+//                        per face (each cell's values are read once)        -> 32 N + 8
+//  exchange:             reads mL, PL (3), EL, v, theta, T^n (8); writes u (3), T,
+//                        Tdot (5)                                          -> 104 N
+//  advection_change (1st order, one material): reads q, 3 face velocities;
+//                        writes the change                                 -> 40
+#include <benchmark/benchmark.h>
+
+#include <mpmice/kernels/advection.hpp>
+#include <mpmice/kernels/equilibrate_pressure.hpp>
+#include <mpmice/kernels/exchange.hpp>
+#include <mpmice/kernels/face_velocity.hpp>
+
+#include "bench_setup.hpp"
+
+using namespace mpmice;
+using namespace mpmice::bench;
+
+namespace {
+
+void report(benchmark::State& state, long items, double bytes_per_item) {
+  state.SetItemsProcessed(state.iterations() * items);
+  state.SetBytesProcessed(int64_t(state.iterations() * items * bytes_per_item));
+  state.counters["bytes_per_item"] = bytes_per_item;
+}
+
+void BM_equilibrate_pressure(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const MaterialTable t = gas_table(mats);
+  const Field4 rho = cell_field(p, mats, 1.0 / mats, 0.1, 1), temp = cell_field(p, mats, 300, 0.1, 2);
+  Field4 v = cell_field(p, mats, 0.8, 0.05, 3);
+  const Field3 press = cell_scalar(p, 101325, 0.05, 4);
+  const EquilibrationOut out{make_field("p", p, Location::cell), make_field("t", p, Location::cell, mats),
+                             make_field("v", p, Location::cell, mats), make_field("c", p, Location::cell, mats),
+                             make_field("k", p, Location::cell, mats), make_field("s", p, Location::cell),
+                             make_field("m", p, Location::cell)};
+  const EquilibrationIn in{rho, temp, v, press};
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { equilibrate_pressure(p.owned_cells(), 1e-9, t, in, out); }));
+  report(state, p.grid.cell_count(), 56.0 * mats + 32.0);
+}
+
+void BM_face_velocity(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const MaterialTable t = gas_table(mats);
+  const Field4 rho = cell_field(p, mats, 1.0, 0.1, 1), v = cell_field(p, mats, 0.8, 0.05, 2),
+               u = cell_field(p, mats, 10, 0.5, 3);
+  const Field3 press = cell_scalar(p, 101325, 0.05, 4);
+  const Field4 out = make_field("U", p, Location::x_face, mats);
+  IndexBox faces = p.owned_cells();
+  faces.hi[0] += 1;
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { face_velocity(faces, 0, 1e-3, 1e-7, 0.0, t, press, rho, v, u, out); }));
+  report(state, p.grid.cell_count(), 32.0 * mats + 8.0);
+}
+
+void BM_exchange(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const MaterialTable t = gas_table(mats);
+  const Field4 mass = cell_field(p, mats, 1e-9, 0.1, 1), eng = cell_field(p, mats, 2e-4, 0.1, 2),
+               v = cell_field(p, mats, 0.8, 0.05, 3), theta = cell_field(p, mats, 1.0 / mats, 0.1, 4),
+               temp = cell_field(p, mats, 300, 0.1, 5);
+  const VectorField4 mom{cell_field(p, mats, 1e-8, 1, 6), cell_field(p, mats, 1e-8, 1, 7), cell_field(p, mats, 1e-8, 1, 8)};
+  const VectorField4 vel{make_field("u", p, Location::cell, mats), make_field("v", p, Location::cell, mats),
+                         make_field("w", p, Location::cell, mats)};
+  const Field4 t_me = make_field("T", p, Location::cell, mats), tdot = make_field("Td", p, Location::cell, mats);
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] {
+      exchange(p.owned_cells(), 1e-7, t, mass, ConstVectorField4{mom[0], mom[1], mom[2]}, eng, v, theta, temp, vel,
+               t_me, tdot);
+    }));
+  report(state, p.grid.cell_count(), 104.0 * mats);
+}
+
+void BM_advection_first_order(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Patch p = cube_patch(n);
+  const Field4 q = cell_field(p, 1, 1.0, 0.1, 1), change = make_field("dq", p, Location::cell, 1);
+  const ConstVectorField4 U{cell_field(p, 1, 0.0, 1.0, 2), cell_field(p, 1, 0.0, 1.0, 3), cell_field(p, 1, 0.0, 1.0, 4)};
+  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
+  // Face velocities on cell-shaped arrays: the kernel reads U[d](m, i+1) at most one
+  // past the owned cells, inside the ghost layers.
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] {
+      advection_change(p.owned_cells(), h, 1e-7, U, 0, q, ConstField4(), false, GradientField(), GradientField(), change);
+    }));
+  report(state, p.grid.cell_count(), 40.0);
+}
+
+void cell_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"cells", "mats"});
+  for (int n : {16, 32, 64, 128})
+    for (int m : {1, 2, 4}) b->Args({n, m});
+}
+
+}  // namespace
+
+BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_advection_first_order)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();

@@ -1,0 +1,108 @@
+// Particle kernels of the MPM half, 1e4 .. 4e6 particles, 8 per cell (2 x 2 x 2),
+// sorted by cell. Bytes per particle (the least a structure-of-arrays kernel moves;
+// node fields are few and stay in cache, so they are not counted):
+//  p2g:            reads x (3), size (3), mass, volume, v (3), T, f_ext (3) -> 15 x 8 = 120
+//  internal_force: reads x (3), size (3), volume, stress (9), gas pressure,
+//                  bulk viscosity                                          -> 18 x 8 = 144
+//  g2p:            reads x (3), size (3), v (3), F (9), volume; writes v (3),
+//                  x (3), F (9), L (9), volume, T                          -> 44 x 8 = 352
+//  stress_update (neo-Hookean): reads F (9), v (3); writes stress (9)     -> 21 x 8 = 168
+//  stress_update (J2 plastic): + L (9), bbar_e (9 read, 9 write), eps_p (2) -> 50 x 8 = 400
+#include <benchmark/benchmark.h>
+
+#include <mpmice/kernels/g2p.hpp>
+#include <mpmice/kernels/internal_force.hpp>
+#include <mpmice/kernels/p2g.hpp>
+#include <mpmice/kernels/stress_update.hpp>
+
+#include "bench_setup.hpp"
+
+using namespace mpmice;
+using namespace mpmice::bench;
+
+namespace {
+
+// A cube holding `particles` at 8 per cell.
+Patch patch_for(long particles) {
+  int n = 1;
+  while (8L * n * n * n < particles) ++n;
+  return cube_patch(n);
+}
+
+void report(benchmark::State& state, long items, double bytes_per_item) {
+  state.SetItemsProcessed(state.iterations() * items);
+  state.SetBytesProcessed(int64_t(state.iterations() * items * bytes_per_item));
+  state.counters["bytes_per_item"] = bytes_per_item;
+}
+
+NodeSums node_sums(const Patch& p) {
+  auto node = [&](const char* name) { return make_field(name, p, Location::node, 1); };
+  return NodeSums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"),
+                  {node("fx"), node("fy"), node("fz")}};
+}
+
+template <class Shape>
+void BM_p2g(benchmark::State& state) {
+  const long n = state.range(0);
+  const Patch p = patch_for(n);
+  const NodeGrid grid = node_grid(p);
+  const ParticleSet ps = particles_in(p, n, 1);
+  const NodeSums sums = node_sums(p);
+  for (auto _ : state) state.SetIterationTime(timed([&] { p2g<Shape>(grid, n, ps.data(), 0, sums); }));
+  report(state, n, 120.0);
+}
+
+template <class Shape>
+void BM_internal_force(benchmark::State& state) {
+  const long n = state.range(0);
+  const Patch p = patch_for(n);
+  const NodeGrid grid = node_grid(p);
+  const ParticleSet ps = particles_in(p, n, 2);
+  const NodeSums sums = node_sums(p);
+  for (auto _ : state) state.SetIterationTime(timed([&] { internal_force<Shape>(grid, n, ps.data(), 0, sums.fext); }));
+  report(state, n, 144.0);
+}
+
+template <class Shape>
+void BM_g2p(benchmark::State& state) {
+  const long n = state.range(0);
+  const Patch p = patch_for(n);
+  const NodeGrid grid = node_grid(p);
+  const ParticleSet ps = particles_in(p, n, 3);
+  const NodeSums sums = node_sums(p);
+  const ConstVectorField4 vs{sums.mom[0], sums.mom[1], sums.mom[2]}, acc{sums.fext[0], sums.fext[1], sums.fext[2]};
+  // dt = 0: the particles stay in place, so every iteration does the same work.
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { g2p<Shape>(grid, n, ps.data(), 0, 0.0, 0.0, false, {0, 0, 0}, vs, acc); }));
+  report(state, n, 352.0);
+}
+
+void BM_stress_update(benchmark::State& state) {
+  const long n = state.range(0);
+  const bool plastic = state.range(1) != 0;
+  const Patch p = patch_for(n);
+  const NodeGrid grid = node_grid(p);
+  const ParticleSet ps = particles_in(p, n, 4);
+  SolidModel model;
+  model.type = plastic ? SolidModelType::neo_hookean_plastic : SolidModelType::neo_hookean;
+  model.yield_stress = 1e8;
+  for (auto _ : state) state.SetIterationTime(timed([&] { stress_update(grid, n, ps.data(), model, 1e-9); }));
+  report(state, n, plastic ? 400.0 : 168.0);
+}
+
+void particle_counts(benchmark::internal::Benchmark* b) {
+  b->ArgName("particles");
+  for (long n : {10000L, 100000L, 1000000L, 4000000L}) b->Arg(n);
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_p2g, LinearShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK_TEMPLATE(BM_p2g, GimpShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK_TEMPLATE(BM_internal_force, LinearShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK_TEMPLATE(BM_g2p, LinearShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK_TEMPLATE(BM_g2p, GimpShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK(BM_stress_update)
+    ->ArgNames({"particles", "plastic"})
+    ->Args({10000, 0})->Args({1000000, 0})->Args({10000, 1})->Args({1000000, 1})
+    ->UseManualTime();
