@@ -10,6 +10,7 @@
 
 #include "input.hpp"
 #include "cycle.hpp"
+#include "input_echo.hpp"
 #include "problem.hpp"
 #include "run.hpp"
 #include "version_info.hpp"
@@ -41,6 +42,10 @@ int run_cli(int argc, char* argv[]) {
   app.add_option("--set", overrides, "Override an input value: key.path=value (repeatable), e.g. "
                                      "--set grid.cells=[200,1,1]");
   app.add_flag("!--no-progress", options.progress, "No progress lines");
+  bool check = false;
+  app.add_flag("--check", check,
+               "Validate INPUT (and its set-up on this many ranks) without running it; print the "
+               "configuration with every default filled in");
   bool list_steps = false;
   app.add_flag("--steps", list_steps,
                "Print the timestep's steps for INPUT (declared reads with ghost layers, writes) as a "
@@ -66,6 +71,11 @@ int run_cli(int argc, char* argv[]) {
   }
   try {
     const Input input = load_input(input_file, overrides);
+    if (check) {
+      auto problem = make_problem(input, MPI_COMM_WORLD);  // set-up errors too
+      if (rank == 0) fmt::print("# {}: valid\n{}", input_file, resolved_yaml(input));
+      return 0;
+    }
     if (list_steps) {
       auto problem = make_problem(input, MPI_COMM_WORLD);
       Cycle cycle(*problem);
