@@ -438,6 +438,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.output.history_interval = long(o.number_or("history_interval", 1, 1, 1e15));
     in.output.probe_interval = long(o.number_or("probe_interval", 1, 1, 1e15));
     in.output.final_fields = o.query<bool>("final_fields", false);
+    in.output.field_interval = long(o.number_or("field_interval", 0, 0, 1e15));
     o.finish();
   }
   top.finish();

@@ -89,6 +89,7 @@ struct OutputInput {
   long history_interval = 1;  // steps
   long probe_interval = 1;    // steps
   bool final_fields = false;  // fields.csv with every cell's state at the end
+  long field_interval = 0;    // steps between HDF5 + XDMF field outputs (0: none)
 };
 
 struct Input {

@@ -156,6 +156,7 @@ std::string resolved_yaml(const Input& in) {
   output["history_interval"] = in.output.history_interval;
   output["probe_interval"] = in.output.probe_interval;
   output["final_fields"] = in.output.final_fields;
+  output["field_interval"] = in.output.field_interval;
   root["output"] = output;
   YAML::Emitter out;
   out << root;

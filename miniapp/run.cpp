@@ -10,6 +10,7 @@
 
 #include "cycle.hpp"
 #include "diagnostics.hpp"
+#include "output_hdf5.hpp"
 #include "problem.hpp"
 
 namespace mpmice {
@@ -29,6 +30,9 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
   }
   MPI_Barrier(comm);
   Diagnostics diagnostics(pb, options.output_dir);
+  const long field_interval = input.output.field_interval;
+  FieldOutput fields(pb, options.output_dir);
+  if (field_interval > 0) fields.write(pb);
 
   const double t_end = options.end_time >= 0 ? options.end_time : input.time.end;
   const long max_steps = options.max_steps >= 0 ? options.max_steps : input.time.max_steps;
@@ -70,6 +74,7 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
       reported_lost = pb.particles_left_domain;
     }
     diagnostics.record(pb, dt);
+    if (field_interval > 0 && pb.step % field_interval == 0) fields.write(pb);
     const double next = cycle.stable_timestep();
     dt = std::min({next, dt * (1.0 + tin.max_increase), tin.dt_max});
 
