@@ -42,6 +42,9 @@ int run_cli(int argc, char* argv[]) {
   app.add_option("--set", overrides, "Override an input value: key.path=value (repeatable), e.g. "
                                      "--set grid.cells=[200,1,1]");
   app.add_flag("!--no-progress", options.progress, "No progress lines");
+  app.add_option("--restart", options.restart,
+                 "Continue from a checkpoint: a checkpoint_NNNNNN.h5 file, or 'latest' (the newest in the "
+                 "output directory)");
   bool check = false;
   app.add_flag("--check", check,
                "Validate INPUT (and its set-up on this many ranks) without running it; print the "

@@ -20,7 +20,28 @@ std::string number(double v) {
 
 }  // namespace
 
-Diagnostics::Diagnostics(const Problem& pb, const std::string& dir) {
+namespace {
+
+// Keep the header and the rows of steps <= `step` of a CSV file (through a temporary
+// file); false if the file does not exist.
+bool truncate_after(const std::string& path, long step) {
+  std::ifstream in(path);
+  if (!in) return false;
+  std::string line, kept;
+  std::getline(in, line);
+  kept = line + "\n";
+  while (std::getline(in, line))
+    if (std::atol(line.c_str()) <= step) kept += line + "\n";
+  in.close();
+  const std::string tmp = path + ".tmp";
+  std::ofstream(tmp) << kept;
+  std::rename(tmp.c_str(), path.c_str());
+  return true;
+}
+
+}  // namespace
+
+Diagnostics::Diagnostics(const Problem& pb, const std::string& dir, long restart_step) {
   MPI_Comm_rank(pb.decomposition->comm(), &m_rank);
   const Patch& p = pb.patch();
   for (const auto& probe : pb.input.probes) {
@@ -36,6 +57,14 @@ Diagnostics::Diagnostics(const Problem& pb, const std::string& dir) {
     m_probe_cells.push_back(pc);
   }
   if (m_rank != 0) return;
+  if (restart_step >= 0 && truncate_after(dir + "/history.csv", restart_step) &&
+      truncate_after(dir + "/probes.csv", restart_step)) {
+    m_history.open(dir + "/history.csv", std::ios::app);
+    m_probes.open(dir + "/probes.csv", std::ios::app);
+    if (!m_history || !m_probes)
+      throw InputError("--output-dir", "cannot append to history.csv and probes.csv in '" + dir + "'");
+    return;
+  }
   m_history.open(dir + "/history.csv");
   m_probes.open(dir + "/probes.csv");
   if (!m_history || !m_probes)

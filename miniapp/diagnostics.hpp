@@ -14,8 +14,10 @@ namespace mpmice {
 
 class Diagnostics {
  public:
-  /// Opens (rank 0) the two files in `directory`, which must exist.
-  Diagnostics(const Problem& problem, const std::string& directory);
+  /// Opens (rank 0) the two files in `directory`, which must exist. After a restart
+  /// from step `restart_step` (>= 0) the files keep their rows up to that step and
+  /// grow from there.
+  Diagnostics(const Problem& problem, const std::string& directory, long restart_step = -1);
   /// Record the state after `step` (collective over the decomposition).
   void record(const Problem& problem, double dt);
   /// Write every cell's state to `path` (CSV, one row per cell and material, sorted by

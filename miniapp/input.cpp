@@ -441,6 +441,13 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.output.field_interval = long(o.number_or("field_interval", 0, 0, 1e15));
     o.finish();
   }
+  if (top.has("checkpoint")) {
+    Reader c = top.map("checkpoint");
+    in.checkpoint.interval = long(c.number_or("interval", 0, 0, 1e15));
+    in.checkpoint.wall_interval = c.number_or("wall_interval", 0.0, 0.0, 1e15);
+    in.checkpoint.keep = int(c.number_or("keep", 2, 1, 1e6));
+    c.finish();
+  }
   top.finish();
   return in;
 }

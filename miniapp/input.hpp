@@ -92,6 +92,12 @@ struct OutputInput {
   long field_interval = 0;    // steps between HDF5 + XDMF field outputs (0: none)
 };
 
+struct CheckpointInput {
+  long interval = 0;         // steps between checkpoints (0: none)
+  double wall_interval = 0;  // wall-clock seconds between checkpoints (0: none)
+  int keep = 2;              // newest checkpoints kept
+};
+
 struct Input {
   std::string file;
   GridInput grid;
@@ -105,6 +111,7 @@ struct Input {
   BoundaryInput boundary;
   std::vector<ProbeInput> probes;
   OutputInput output;
+  CheckpointInput checkpoint;
 };
 
 /// Quantities a probe may record.

@@ -158,6 +158,11 @@ std::string resolved_yaml(const Input& in) {
   output["final_fields"] = in.output.final_fields;
   output["field_interval"] = in.output.field_interval;
   root["output"] = output;
+  YAML::Node checkpoint;
+  checkpoint["interval"] = in.checkpoint.interval;
+  checkpoint["wall_interval"] = in.checkpoint.wall_interval;
+  checkpoint["keep"] = in.checkpoint.keep;
+  root["checkpoint"] = checkpoint;
   YAML::Emitter out;
   out << root;
   return std::string(out.c_str()) + "\n";

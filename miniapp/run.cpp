@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cycle.hpp"
+#include "checkpoint.hpp"
 #include "diagnostics.hpp"
 #include "output_hdf5.hpp"
 #include "problem.hpp"
@@ -29,10 +30,20 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     std::filesystem::create_directories(options.output_dir, ec);
   }
   MPI_Barrier(comm);
-  Diagnostics diagnostics(pb, options.output_dir);
+  double dt = std::min(input.time.dt_initial, input.time.dt_max);
+  const bool restarted = !options.restart.empty();
+  if (restarted) {
+    const std::string file = options.restart == "latest" ? latest_checkpoint(options.output_dir) : options.restart;
+    dt = read_checkpoint(pb, file);
+    if (rank == 0 && options.report)
+      fmt::print("mpmice: restarted from {} at step {}, t = {:.6g} s\n", file, pb.step, pb.time);
+  }
+  Diagnostics diagnostics(pb, options.output_dir, restarted ? pb.step : -1);
   const long field_interval = input.output.field_interval;
   FieldOutput fields(pb, options.output_dir);
-  if (field_interval > 0) fields.write(pb);
+  if (field_interval > 0 && !restarted) fields.write(pb);
+  const auto& ck = input.checkpoint;
+  auto last_checkpoint = clock::now();
 
   const double t_end = options.end_time >= 0 ? options.end_time : input.time.end;
   const long max_steps = options.max_steps >= 0 ? options.max_steps : input.time.max_steps;
@@ -44,11 +55,10 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
                pb.decomposition->dims()[0], pb.decomposition->dims()[1], pb.decomposition->dims()[2],
                pb.ice.size(), pb.ice.size() == 1 ? "" : "s", pb.solid_count(),
                pb.solid_count() == 1 ? "" : "s", t_end);
-  diagnostics.record(pb, 0.0);
+  if (!restarted) diagnostics.record(pb, 0.0);
 
   const auto start = clock::now();
   auto last_print = start;
-  double dt = std::min(tin.dt_initial, tin.dt_max);
   long redone = 0, reported_lost = 0;
   std::string last_redo_reason;
   while (pb.time < t_end * (1 - 1e-14) && pb.step < max_steps) {
@@ -77,6 +87,15 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     if (field_interval > 0 && pb.step % field_interval == 0) fields.write(pb);
     const double next = cycle.stable_timestep();
     dt = std::min({next, dt * (1.0 + tin.max_increase), tin.dt_max});
+    // Checkpoints every `interval` steps or `wall_interval` seconds (rank 0's clock
+    // decides, so that all ranks write together).
+    int wall_due = ck.wall_interval > 0 &&
+                   std::chrono::duration<double>(clock::now() - last_checkpoint).count() >= ck.wall_interval;
+    MPI_Bcast(&wall_due, 1, MPI_INT, 0, comm);
+    if ((ck.interval > 0 && pb.step % ck.interval == 0) || wall_due) {
+      write_checkpoint(pb, dt, options.output_dir, ck.keep);
+      last_checkpoint = clock::now();
+    }
 
     const auto now = clock::now();
     if (options.progress && rank == 0 && now - last_print > std::chrono::seconds(1)) {

@@ -14,6 +14,7 @@ struct RunOptions {
   double end_time = -1;   // < 0: the input's time.end
   bool progress = true;   // a progress line at most every second
   bool report = true;     // the header, the per-step timing table and the summary
+  std::string restart;    // a checkpoint file, "latest" (in output_dir), or empty
 };
 
 struct Problem;
