@@ -617,12 +617,13 @@ void Cycle::add_advection_steps() {
                                    ConstVectorField4{vel_new[0], vel_new[1], vel_new[2]}, q_out[3]);
           }
         }
-        const long bad = count_bad_states(owned, n, rho_new, q_out[3], q_out[4],
-                                          ConstVectorField4{vel_new[0], vel_new[1], vel_new[2]});
-        stop_if_any(comm, bad > 0,
-                    "advect_and_advance: " + std::to_string(bad) +
-                        " cells with a non-positive density, temperature or specific volume, or a "
-                        "non-finite velocity (E38)");
+        const BadState bad = find_bad_states(owned, n, rho_new, q_out[3], q_out[4],
+                                             ConstVectorField4{vel_new[0], vel_new[1], vel_new[2]});
+        const char* quantity[4] = {"density", "temperature", "specific volume", "velocity"};
+        stop_if_any(comm, bad.count > 0,
+                    "advect_and_advance: " + std::string(quantity[bad.quantity]) + " of material '" +
+                        m_pb.input.materials[bad.material].name + "' in cell " + cell_name(p, bad.cell) +
+                        " is not positive or not finite (E38; " + std::to_string(bad.count) + " cells on this rank)");
       }});
 
   // End of step: boundary values of the new state (E38's BCs).

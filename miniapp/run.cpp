@@ -65,13 +65,27 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     if (pb.time + dt > t_end) dt = t_end - pb.time;
     try {
       cycle.advance(pb.time, dt);
+    } catch (const InvariantError& e) {
+      // The state at the start of the step is intact: write it for inspection.
+      std::string where = "at step " + std::to_string(pb.step + 1) + " (t = " + fmt::format("{:.6g}", pb.time) + " s)";
+      try {
+        where += "; the last good state is in " + fields.write(pb);
+      } catch (...) {
+      }
+      throw InvariantError(std::string(e.what()).empty() ? std::string() : std::string(e.what()) + ", " + where);
     } catch (const RedoStep& e) {
       ++redone;
       last_redo_reason = e.what();
       dt *= 0.5;
-      if (dt < tin.dt_min)
+      if (dt < tin.dt_min) {
+        std::string where;
+        try {
+          where = "; the last good state is in " + fields.write(pb);
+        } catch (...) {
+        }
         throw InvariantError(std::string("step ") + std::to_string(pb.step + 1) + ": " + e.what() +
-                             " even with dt below time.dt_min");
+                             " even with dt below time.dt_min" + where);
+      }
       continue;
     }
     pb.time += dt;

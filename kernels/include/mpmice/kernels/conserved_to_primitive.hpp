@@ -30,28 +30,54 @@ inline void advance_specific(const IndexBox& cells, double cell_volume, int m,
       });
 }
 
-/// Cells (local index) where rho, T or v is not positive or a velocity not finite
-/// after the step (E38's stop condition); returns how many.
-inline long count_bad_states(const IndexBox& cells, int materials, const ConstField4& rho,
-                             const ConstField4& temp, const ConstField4& sp_vol,
-                             const ConstVectorField4& vel) {
-  long bad = 0;
+/// One state that broke (E38)'s conditions: where, which material, which quantity.
+struct BadState {
+  long count = 0;        ///< cells with a bad state
+  int cell[3] = {0, 0, 0};  ///< one of them (local index)
+  int material = 0;
+  int quantity = 0;      ///< 0 density, 1 temperature, 2 specific volume, 3 velocity
+};
+
+/// Cells where rho, T or v is not positive (or not finite) or a velocity not finite
+/// after the step (E38's stop condition): how many, and the last such cell in index
+/// order with its material and quantity.
+inline BadState find_bad_states(const IndexBox& cells, int materials, const ConstField4& rho,
+                                const ConstField4& temp, const ConstField4& sp_vol,
+                                const ConstVectorField4& vel) {
+  const int nj = int(rho.extent(2)), nk = int(rho.extent(3));
+  long count = 0, code = -1;  // code: ((cell * materials) + m) * 4 + quantity
   Kokkos::parallel_reduce(
-      "mpmice::count_bad_states", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, long& n) {
+      "mpmice::find_bad_states", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, long& n, long& where) {
         for (int m = 0; m < materials; ++m) {
-          const bool ok = rho(m, i, j, k) > 0 && temp(m, i, j, k) > 0 && sp_vol(m, i, j, k) > 0 &&
-                          math::isfinite(vel[0](m, i, j, k)) && math::isfinite(vel[1](m, i, j, k)) &&
-                          math::isfinite(vel[2](m, i, j, k)) && math::isfinite(rho(m, i, j, k)) &&
-                          math::isfinite(temp(m, i, j, k));
-          if (!ok) {
+          int q = -1;
+          if (!(rho(m, i, j, k) > 0) || !math::isfinite(rho(m, i, j, k))) q = 0;
+          else if (!(temp(m, i, j, k) > 0) || !math::isfinite(temp(m, i, j, k))) q = 1;
+          else if (!(sp_vol(m, i, j, k) > 0)) q = 2;
+          else if (!math::isfinite(vel[0](m, i, j, k)) || !math::isfinite(vel[1](m, i, j, k)) ||
+                   !math::isfinite(vel[2](m, i, j, k)))
+            q = 3;
+          if (q >= 0) {
             ++n;
+            const long c = ((long(i) * nj + j) * nk + k) * materials + m;
+            if (c * 4 + q > where) where = c * 4 + q;
             return;
           }
         }
       },
-      bad);
-  return bad;
+      count, Kokkos::Max<long>(code));
+  BadState b;
+  b.count = count;
+  if (count > 0) {
+    b.quantity = int(code % 4);
+    const long c = code / 4;
+    b.material = int(c % materials);
+    const long cell = c / materials;
+    b.cell[0] = int(cell / (long(nj) * nk));
+    b.cell[1] = int((cell / nk) % nj);
+    b.cell[2] = int(cell % nk);
+  }
+  return b;
 }
 
 }  // namespace mpmice
