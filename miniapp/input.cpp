@@ -149,6 +149,13 @@ void read_exchange_list(Reader& ex, const std::string& key, Input& in, std::vect
 
 }  // namespace
 
+const std::vector<std::string>& field_output_names() {
+  static const std::vector<std::string> q{"pressure", "density", "temperature", "volume_fraction", "velocity",
+                                          "particle_velocity", "particle_mass", "particle_temperature",
+                                          "von_mises_stress"};
+  return q;
+}
+
 const std::vector<std::string>& probe_quantities() {
   static const std::vector<std::string> q{"pressure",   "density",     "velocity_x",
                                           "velocity_y", "velocity_z",  "temperature",
@@ -439,8 +446,21 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.output.probe_interval = long(o.number_or("probe_interval", 1, 1, 1e15));
     in.output.final_fields = o.query<bool>("final_fields", false);
     in.output.field_interval = long(o.number_or("field_interval", 0, 0, 1e15));
+    if (o.has("fields")) {
+      in.output.fields = o.get<std::vector<std::string>>("fields");
+      for (const auto& f : in.output.fields) {
+        bool ok = false;
+        for (const auto& a : field_output_names()) ok |= a == f;
+        if (!ok) {
+          std::string list_s;
+          for (const auto& a : field_output_names()) list_s += (list_s.empty() ? "" : ", ") + a;
+          o.fail("fields", "names '" + f + "' (allowed: " + list_s + ")");
+        }
+      }
+    }
     o.finish();
   }
+  if (in.output.fields.empty()) in.output.fields = field_output_names();
   if (top.has("checkpoint")) {
     Reader c = top.map("checkpoint");
     in.checkpoint.interval = long(c.number_or("interval", 0, 0, 1e15));

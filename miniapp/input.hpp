@@ -90,6 +90,7 @@ struct OutputInput {
   long probe_interval = 1;    // steps
   bool final_fields = false;  // fields.csv with every cell's state at the end
   long field_interval = 0;    // steps between HDF5 + XDMF field outputs (0: none)
+  std::vector<std::string> fields;  // what the field output holds (field_output_names())
 };
 
 struct CheckpointInput {
@@ -113,6 +114,10 @@ struct Input {
   OutputInput output;
   CheckpointInput checkpoint;
 };
+
+/// Quantities the field output may hold: cell fields (per fluid, pressure shared) and
+/// particle fields (per solid; positions are always written).
+const std::vector<std::string>& field_output_names();
 
 /// Quantities a probe may record.
 const std::vector<std::string>& probe_quantities();

@@ -157,6 +157,7 @@ std::string resolved_yaml(const Input& in) {
   output["probe_interval"] = in.output.probe_interval;
   output["final_fields"] = in.output.final_fields;
   output["field_interval"] = in.output.field_interval;
+  output["fields"] = seq(in.output.fields);
   root["output"] = output;
   YAML::Node checkpoint;
   checkpoint["interval"] = in.checkpoint.interval;

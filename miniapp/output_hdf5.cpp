@@ -68,6 +68,12 @@ std::string base_name(const std::string& path) {
 
 // One output's grids, as XDMF: the cells (3DCoRectMesh, z slowest) with cell-centred
 // attributes, and one polyvertex grid per solid.
+bool wanted(const Problem& pb, const std::string& name) {
+  for (const auto& f : pb.input.output.fields)
+    if (f == name) return true;
+  return false;
+}
+
 std::string xdmf_grids(const Problem& pb, const std::string& h5, const std::vector<long>& particle_counts,
                        const std::string& indent) {
   const Grid& g = pb.patch().grid;
@@ -93,11 +99,12 @@ std::string xdmf_grids(const Problem& pb, const std::string& h5, const std::vect
         << "</DataItem>\n"
         << indent << "  </Attribute>\n";
     };
-    attr("pressure", false);
+    if (wanted(pb, "pressure")) attr("pressure", false);
     for (int m : pb.ice) {
       const std::string& name = pb.input.materials[m].name;
-      for (const char* q : {"density", "temperature", "volume_fraction"}) attr(std::string(q) + "_" + name, false);
-      attr("velocity_" + name, true);
+      for (const char* q : {"density", "temperature", "volume_fraction"})
+        if (wanted(pb, q)) attr(std::string(q) + "_" + name, false);
+      if (wanted(pb, "velocity")) attr("velocity_" + name, true);
     }
     x << indent << "</Grid>\n";
   }
@@ -112,6 +119,8 @@ std::string xdmf_grids(const Problem& pb, const std::string& h5, const std::vect
       << h5 << ":/particles/" << name << "/position</DataItem>\n"
       << indent << "  </Geometry>\n";
     for (const char* q : {"mass", "temperature", "velocity", "von_mises_stress"}) {
+      const std::string key = std::string(q) == "von_mises_stress" ? q : "particle_" + std::string(q);
+      if (!wanted(pb, key)) continue;
       const bool vector = std::string(q) == "velocity";
       x << indent << "  <Attribute Name=\"" << q << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
         << "\" Center=\"Node\">\n"
@@ -172,8 +181,9 @@ std::string FieldOutput::write(const Problem& pb) {
         return out;
       };
       auto press = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field3>("press_CC"));
-      write_block(file.id, "/cells/pressure", global, offset, count,
-                  gather([&](int i, int j, int k, int) { return press(i, j, k); }, 1));
+      if (wanted(pb, "pressure"))
+        write_block(file.id, "/cells/pressure", global, offset, count,
+                    gather([&](int i, int j, int k, int) { return press(i, j, k); }, 1));
       auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("rho_CC"));
       auto temp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("temp_CC"));
       auto spv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("sp_vol_CC"));
@@ -183,12 +193,16 @@ std::string FieldOutput::write(const Problem& pb) {
                               Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[2])};
       for (int m : pb.ice) {
         const std::string mat = pb.input.materials[m].name;
-        write_block(file.id, "/cells/density_" + mat, global, offset, count,
-                    gather([&](int i, int j, int k, int) { return rho(m, i, j, k); }, 1));
-        write_block(file.id, "/cells/temperature_" + mat, global, offset, count,
-                    gather([&](int i, int j, int k, int) { return temp(m, i, j, k); }, 1));
-        write_block(file.id, "/cells/volume_fraction_" + mat, global, offset, count,
-                    gather([&](int i, int j, int k, int) { return rho(m, i, j, k) * spv(m, i, j, k); }, 1));
+        if (wanted(pb, "density"))
+          write_block(file.id, "/cells/density_" + mat, global, offset, count,
+                      gather([&](int i, int j, int k, int) { return rho(m, i, j, k); }, 1));
+        if (wanted(pb, "temperature"))
+          write_block(file.id, "/cells/temperature_" + mat, global, offset, count,
+                      gather([&](int i, int j, int k, int) { return temp(m, i, j, k); }, 1));
+        if (wanted(pb, "volume_fraction"))
+          write_block(file.id, "/cells/volume_fraction_" + mat, global, offset, count,
+                      gather([&](int i, int j, int k, int) { return rho(m, i, j, k) * spv(m, i, j, k); }, 1));
+        if (!wanted(pb, "velocity")) continue;
         std::vector<hsize_t> g3 = global, o3 = offset, c3 = count;
         g3.push_back(3);
         o3.push_back(0);
@@ -223,12 +237,17 @@ std::string FieldOutput::write(const Problem& pb) {
       const std::vector<hsize_t> g1{hsize_t(total)}, o1{hsize_t(before)}, c1{hsize_t(mine)};
       const std::vector<hsize_t> g3{hsize_t(total), 3}, o3{hsize_t(before), 0}, c3{hsize_t(mine), 3};
       write_block(file.id, base + "/position", g3, o3, c3, column_of(ParticleField::x, 3));
-      write_block(file.id, base + "/velocity", g3, o3, c3, column_of(ParticleField::vx, 3));
-      write_block(file.id, base + "/mass", g1, o1, c1, column_of(ParticleField::mass, 1));
-      write_block(file.id, base + "/temperature", g1, o1, c1, column_of(ParticleField::temperature, 1));
-      std::vector<double> vm(mine);
-      for (long q = 0; q < mine; ++q) vm[q] = std::sqrt(1.5) * load_tensor(data, q, ParticleField::s00).deviator().norm();
-      write_block(file.id, base + "/von_mises_stress", g1, o1, c1, vm);
+      if (wanted(pb, "particle_velocity"))
+        write_block(file.id, base + "/velocity", g3, o3, c3, column_of(ParticleField::vx, 3));
+      if (wanted(pb, "particle_mass"))
+        write_block(file.id, base + "/mass", g1, o1, c1, column_of(ParticleField::mass, 1));
+      if (wanted(pb, "particle_temperature"))
+        write_block(file.id, base + "/temperature", g1, o1, c1, column_of(ParticleField::temperature, 1));
+      if (wanted(pb, "von_mises_stress")) {
+        std::vector<double> vm(mine);
+        for (long q = 0; q < mine; ++q) vm[q] = std::sqrt(1.5) * load_tensor(data, q, ParticleField::s00).deviator().norm();
+        write_block(file.id, base + "/von_mises_stress", g1, o1, c1, vm);
+      }
     }
   }
   MPI_Barrier(comm);
