@@ -48,6 +48,12 @@ Writes vec_out(const std::string& name, int valid_ghosts = 0) {
   for (const auto& c : components(name)) w.push_back({c, valid_ghosts});
   return w;
 }
+// Writes of a vector field a scatter adds into: one ghost layer summed into owners.
+Writes vec_summed(const std::string& name) {
+  Writes w;
+  for (const auto& c : components(name)) w.push_back({c, 0, 1});
+  return w;
+}
 template <class T>
 std::vector<T> cat(std::initializer_list<std::vector<T>> parts) {
   std::vector<T> out;
@@ -146,15 +152,10 @@ void Cycle::add_particle_to_grid_steps() {
   const bool gimp = m_pb.input.mpm.gimp;
   const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
   const FaceBcs velocity_bcs = m_pb.input.boundary.velocity;
-  auto sums_out = [](const std::string& name) {
-    Writes w;
-    for (const auto& c : components(name)) w.push_back({c, 0, 1});
-    return w;
-  };
   m_steps.push_back(Step{
       "p2g", {},
-      cat<FieldWrite>({{{"mass_NC", 0, 1}, {"heat_NC", 0, 1}, {"volume_NC", 0, 1}}, sums_out("mom_NC"),
-                       sums_out("fext_NC")}),
+      cat<FieldWrite>({{{"mass_NC", 0, 1}, {"heat_NC", 0, 1}, {"volume_NC", 0, 1}}, vec_summed("mom_NC"),
+                       vec_summed("fext_NC")}),
       [this, grid, gimp, ns](const StepContext& ctx) {
         const NodeSums sums{ctx.write<Field4>("mass_NC"), write_vec(ctx, "mom_NC"), ctx.write<Field4>("heat_NC"),
                             ctx.write<Field4>("volume_NC"), write_vec(ctx, "fext_NC")};
@@ -360,9 +361,7 @@ void Cycle::add_force_steps() {
                              }
                            }});
   }
-  Writes fint_out;
-  for (const auto& c : components("fint_NC")) fint_out.push_back({c, 0, 1});
-  m_steps.push_back(Step{"internal_force", {}, fint_out, [=](const StepContext& ctx) {
+  m_steps.push_back(Step{"internal_force", {}, vec_summed("fint_NC"), [=](const StepContext& ctx) {
                            const VectorField4 fint = write_vec(ctx, "fint_NC");
                            for (int s = 0; s < ns; ++s) {
                              const ParticleSet& ps = m_pb.particles[s];

@@ -38,6 +38,19 @@ struct EquilibrationFailure {
 
 namespace detail {
 
+// Every material's micro density at pressure `press` and its volume fraction
+// rhoB/rhoM; returns their sum.
+KOKKOS_INLINE_FUNCTION double fractions_at(const MaterialTable& mats, double press, const double* temp,
+                                           const double* rho_bulk, double* rho_micro, double* theta) {
+  double sum = 0;
+  for (int r = 0; r < mats.count; ++r) {
+    rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
+    theta[r] = rho_bulk[r] / rho_micro[r];
+    sum += theta[r];
+  }
+  return sum;
+}
+
 // Residual-corrected Newton (E15); returns false if not converged.
 KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const double* temp,
                                                const double* rho_bulk, double* rho_micro,
@@ -56,12 +69,7 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const 
     const double dp = (A - 1.0 - B) / C;
     press += dp;
     if (press < equilibration_tolerance) press = math::abs(dp);
-    double sum = 0;
-    for (int r = 0; r < n; ++r) {
-      rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
-      theta[r] = rho_bulk[r] / rho_micro[r];
-      sum += theta[r];
-    }
+    const double sum = fractions_at(mats, press, temp, rho_bulk, rho_micro, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
   }
   return false;
@@ -71,15 +79,9 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const 
 KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, const double* temp,
                                                   const double* rho_bulk, double* rho_micro,
                                                   double* theta, double& press) {
-  const int n = mats.count;
   double lo = DBL_EPSILON, hi = 1.0 / DBL_EPSILON;
   for (int it = 0; it < 200; ++it) {
-    double sum = 0;
-    for (int r = 0; r < n; ++r) {
-      rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
-      theta[r] = rho_bulk[r] / rho_micro[r];
-      sum += theta[r];
-    }
+    const double sum = fractions_at(mats, press, temp, rho_bulk, rho_micro, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
     // sum theta falls as the pressure rises.
     if (sum > 1.0)
