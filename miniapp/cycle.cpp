@@ -439,10 +439,8 @@ void Cycle::add_lagrangian_steps() {
                  ctx.read<Field4>("int_eng_L_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
                  ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>("temp_CC"), vel, temp,
                  ctx.write<Field4>("Tdot_CC"));
-        for (int m = 0; m < n; ++m) {
-          for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], m, p, bc.velocity, d);
-          fill_extra_cells(temp, m, p, bc.temperature, -1);
-        }
+        for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], p, bc.velocity, d);
+        fill_extra_cells(temp, p, bc.temperature, -1);
       }});
 
   // Step 18 (E32)

@@ -23,12 +23,14 @@ struct Bc {
 /// The six faces in the order x-, x+, y-, y+, z-, z+ (face = 2 d + side).
 using FaceBcs = Kokkos::Array<Bc, 6>;
 
-/// Fill every extra-cell layer of the 3D view `q` (a material's slice or a shared
-/// field) on the domain faces this patch touches. `component` is -1 for a scalar,
-/// else the vector component q holds (0, 1, 2). Directions are swept x, y, z, each
-/// over the extra cells already filled, so edges and corners get values too.
-template <class View3>
-void fill_extra_cells(const View3& q, const Patch& patch, const FaceBcs& bcs, int component) {
+/// Fill every extra-cell layer of materials [m_begin, m_end) of `q` on the domain
+/// faces this patch touches. `component` is -1 for a scalar, else the vector component
+/// q holds (0, 1, 2). Directions are swept x, y, z, each over the extra cells already
+/// filled, so edges and corners get values too. One launch per face for all the
+/// materials.
+inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanaged>& q,
+                             int m_begin, int m_end, const Patch& patch, const FaceBcs& bcs,
+                             int component) {
   const int G = patch.ghosts;
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
@@ -54,27 +56,39 @@ void fill_extra_cells(const View3& q, const Patch& patch, const FaceBcs& bcs, in
             const int l = side == 0 ? G - at : at - (G + n) + 1;
             int adjacent[3] = {i, j, k}, mirror[3] = {i, j, k};
             adjacent[d] = side == 0 ? G : G + n - 1;
-            int m = side == 0 ? G - 1 + l : G + n - l;
-            if (m < G) m = G;
-            if (m > G + n - 1) m = G + n - 1;
-            mirror[d] = m;
-            double out;
-            if (bc.kind == BcKind::dirichlet)
-              out = value;
-            else if (bc.kind == BcKind::symmetry)
-              out = mirror_sign * q(mirror[0], mirror[1], mirror[2]);
-            else
-              out = q(adjacent[0], adjacent[1], adjacent[2]) + value * h * l;
-            q(i, j, k) = out;
+            int mm = side == 0 ? G - 1 + l : G + n - l;
+            if (mm < G) mm = G;
+            if (mm > G + n - 1) mm = G + n - 1;
+            mirror[d] = mm;
+            for (int m = m_begin; m < m_end; ++m) {
+              double out;
+              if (bc.kind == BcKind::dirichlet)
+                out = value;
+              else if (bc.kind == BcKind::symmetry)
+                out = mirror_sign * q(m, mirror[0], mirror[1], mirror[2]);
+              else
+                out = q(m, adjacent[0], adjacent[1], adjacent[2]) + value * h * l;
+              q(m, i, j, k) = out;
+            }
           });
     }
 }
 
 /// Fill the extra cells of material m of a per-material field.
-inline void fill_extra_cells(const Field4& q, int m, const Patch& patch, const FaceBcs& bcs,
-                             int component) {
-  fill_extra_cells(Kokkos::subview(q, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), patch, bcs,
-                   component);
+inline void fill_extra_cells(const Field4& q, int m, const Patch& patch, const FaceBcs& bcs, int component) {
+  fill_extra_cells(q, m, m + 1, patch, bcs, component);
+}
+
+/// Fill the extra cells of every material of a per-material field.
+inline void fill_extra_cells(const Field4& q, const Patch& patch, const FaceBcs& bcs, int component) {
+  fill_extra_cells(q, 0, int(q.extent(0)), patch, bcs, component);
+}
+
+/// Fill the extra cells of a material-independent field.
+inline void fill_extra_cells(const Field3& q, const Patch& patch, const FaceBcs& bcs, int component) {
+  const Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanaged> q4(q.data(), 1, q.extent(0), q.extent(1),
+                                                                         q.extent(2));
+  fill_extra_cells(q4, 0, 1, patch, bcs, component);
 }
 
 /// Normal velocity on the domain-boundary faces of direction d (E19's face BCs):
