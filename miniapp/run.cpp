@@ -9,6 +9,8 @@
 #include <iostream>
 
 #include "cycle.hpp"
+#include <mpmice/halo/reduce.hpp>
+
 #include "checkpoint.hpp"
 #include "diagnostics.hpp"
 #include "output_hdf5.hpp"
@@ -127,6 +129,10 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
   std::cout << std::flush;
   if (options.report) cycle.runner().print_timings(std::cout);
+  // Halo traffic: the largest bytes any rank sent per step (0 on one rank).
+  const double halo_bytes = pb.step > 0 ? global_max(comm, pb.halo->bytes_sent()) / double(pb.step) : 0.0;
+  if (rank == 0 && options.report && ranks > 1)
+    fmt::print("mpmice: halo exchange: {:.3g} MB sent per step by the busiest rank\n", halo_bytes / 1e6);
   if (rank == 0 && options.report) {
     const double cell_steps = double(grid.cell_count()) * pb.step;
     fmt::print("mpmice: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} cell-steps/s{}); output in {}\n",
