@@ -133,8 +133,14 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
   const double halo_bytes = pb.step > 0 ? global_max(comm, pb.halo->bytes_sent()) / double(pb.step) : 0.0;
   if (rank == 0 && options.report && ranks > 1)
     fmt::print("mpmice: halo exchange: {:.3g} MB sent per step by the busiest rank\n", halo_bytes / 1e6);
+  long particles = 0;
+  for (const auto& ps : pb.particles) particles += long(ps.size());
+  particles = global_sum(comm, particles);
   if (rank == 0 && options.report) {
     const double cell_steps = double(grid.cell_count()) * pb.step;
+    if (particles > 0)
+      fmt::print("mpmice: {} particles, {:.3g} particle-steps/s\n", particles,
+                 wall > 0 ? double(particles) * pb.step / wall : 0.0);
     fmt::print("mpmice: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} cell-steps/s{}); output in {}\n",
                pb.step, pb.time, wall, wall > 0 ? cell_steps / wall : 0.0,
                redone ? fmt::format(", {} steps redone with a smaller dt, the last because {}", redone, last_redo_reason)
