@@ -1,10 +1,14 @@
-// Benchmark main: Kokkos lives for the whole run; the context records what ran.
+// Benchmark main: MPI (for the halo benchmarks, on one rank) and Kokkos live for the
+// whole run; the context records what ran.
 #include <benchmark/benchmark.h>
+#include <mpi.h>
 
 #include <Kokkos_Core.hpp>
 #include <mpmice/kernels/version.hpp>
 
-int main(int argc, char* argv[]) {
+namespace {
+
+int run_benchmarks(int argc, char* argv[]) {
   Kokkos::ScopeGuard kokkos(argc, argv);
   benchmark::AddCustomContext("mpmice", MPMICE_VERSION_STRING);
   benchmark::AddCustomContext("git", MPMICE_GIT_REVISION);
@@ -16,4 +20,13 @@ int main(int argc, char* argv[]) {
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  MPI_Init(&argc, &argv);
+  const int status = run_benchmarks(argc, argv);
+  MPI_Finalize();
+  return status;
 }
