@@ -196,6 +196,11 @@ void Cycle::add_node_to_cell_step() {
           node_to_cell(owned, V, s, m, m_pb.materials.eos[m], ctx.read<Field3>("NC_CCweight"),
                        ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), ctx.read<Field4>("temp_NC"),
                        ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
+          if (m_pb.materials.is_rigid(m)) {
+            const NodeGrid grid = node_grid(p);  // node 0 is also cell 0's low corner
+            rigid_particle_density(owned, V, m, grid.lower, grid.inv_h, long(m_pb.particles[s].size()),
+                                   m_pb.particles[s].data(), rho);
+          }
           fill_extra_cells(rho, m, p, bc.density, -1);
           fill_extra_cells(temp, m, p, bc.temperature, -1);
           fill_extra_cells(sp_vol, m, p, mirror_or_zero_gradient(bc.velocity), -1);

@@ -3,12 +3,12 @@
 //    material's mass constant to 1e-12 relative, total momentum (particles + cells)
 //    to 1e-10 relative over 500 steps;
 //  - the piston (problems/piston.yaml at 100 cells): trapped gas mass constant to
-//    round-off (1e-11 over 5300 steps), and the pressure at the closed end following the adiabat. The bounds here
-//    (10% during the stroke, 5% at the end) are what 100 cells reach (9.6%, 4.4%): the solid's
-//    surface is smeared over half a cell by the node-to-cell average (E13), which
-//    shortens the gas column by about a quarter cell; the error halves with the cell
-//    size (200 cells: 4.0% and 1.65%, docs/validation.md). The 2% / 1% need
-//    about 400 cells.
+//    round-off (1e-11 over 5300 steps); the final pressure ratio within 1% of the
+//    adiabat's (the bound; -0.03% here); during the stroke within 2% once the
+//    start transient has rung down (t >= 2 ms; 1.95% here), and within 3.5% overall
+//    (3.1% here): the impulsive start sends an acoustic wave of amplitude gamma M ~ 4%
+//    of P1 back and forth in the inviscid column, which the quasi-static adiabat does
+//    not have.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,23 +60,28 @@ TEST(MpmIce, PistonFollowsTheAdiabat) {
   std::ifstream in(dir + "/probes.csv");
   std::string line;
   std::getline(in, line);
-  double worst = 0, last_t = 0, last_p = 0;
+  double worst = 0, worst_after_start = 0, last_t = 0, last_p = 0;
   while (std::getline(in, line)) {
     if (line.find(",closed_end,pressure,") == std::string::npos) continue;
     std::stringstream ss(line);
     std::string cell[6];
     for (auto& c : cell) std::getline(ss, c, ',');
     const double t = std::atof(cell[1].c_str()), p = std::atof(cell[5].c_str());
-    if (t > 0 && t <= t_stop) worst = std::max(worst, std::abs(p - adiabat(t)) / adiabat(t));
+    if (t > 0 && t <= t_stop) {
+      const double dev = std::abs(p - adiabat(t)) / adiabat(t);
+      worst = std::max(worst, dev);
+      if (t >= 2e-3) worst_after_start = std::max(worst_after_start, dev);
+    }
     last_t = t;
     last_p = p;
   }
   const double final_error = (last_p - adiabat(last_t)) / adiabat(last_t);
-  std::printf("piston (100 cells): largest deviation from the adiabat during the stroke %.2f%%, final "
-              "pressure ratio %.3f against %.3f (%+.2f%%)\n",
-              100 * worst, last_p / p1, adiabat(last_t) / p1, 100 * final_error);
-  EXPECT_LE(worst, 0.10);
-  EXPECT_LE(std::abs(final_error), 0.05);
+  std::printf("piston (100 cells): largest deviation from the adiabat during the stroke %.2f%% (%.2f%% after "
+              "2 ms), final pressure ratio %.3f against %.3f (%+.2f%%)\n",
+              100 * worst, 100 * worst_after_start, last_p / p1, adiabat(last_t) / p1, 100 * final_error);
+  EXPECT_LE(worst, 0.035);
+  EXPECT_LE(worst_after_start, 0.02);
+  EXPECT_LE(std::abs(final_error), 0.01);
   // Trapped gas: column mass:trapped_air.
   std::size_t c = 0;
   while (c < history.header.size() && history.header[c] != "mass:trapped_air") ++c;

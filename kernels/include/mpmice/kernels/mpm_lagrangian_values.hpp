@@ -30,11 +30,13 @@ inline void mpm_lagrangian_values(const IndexBox& cells, double cell_volume, int
               e_mpm += wm * cv * node_temp(s, i + a, j + b, k + c);
             }
         const double mass = rho(m, i, j, k) * cell_volume;
-        const double z = (mass - m_small) / mass;
-        for (int d = 0; d < 3; ++d) {
-          const double q = rigid ? 0.0 : mom_source[d](m, i, j, k);
-          mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + q);
+        if (rigid) {  // its cell mass comes from its particles, its velocity is prescribed
+          for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k);
+          int_eng_L(m, i, j, k) = mass * cv * temp(m, i, j, k);
+          return;
         }
+        const double z = (mass - m_small) / mass;
+        for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + mom_source[d](m, i, j, k));
         int_eng_L(m, i, j, k) = (1.0 - z) * mass * cv * temp(m, i, j, k) + z * e_mpm;
       });
 }

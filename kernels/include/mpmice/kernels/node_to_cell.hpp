@@ -6,6 +6,7 @@
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/eos.hpp>
+#include <mpmice/kernels/particle_grid.hpp>
 
 namespace mpmice {
 
@@ -59,6 +60,27 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
         for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = mom[d] / mass;
         rho(m, i, j, k) = mass / cell_volume;
         sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), t);
+      });
+}
+
+/// A rigid body's cell density from the particles inside each cell (particle-to-cell):
+/// rho_r = (m_small + sum of the masses of its particles in the cell)/V. Its velocity is
+/// prescribed, so no momentum has to match node sums; and its surface then lies where
+/// its particles are instead of being spread over half a cell by (E13). An addition to
+/// the algorithm document (docs/design.md).
+inline void rigid_particle_density(const IndexBox& cells, double cell_volume, int m, const double* lower,
+                                   const double* inv_h, long count, const ParticleData& data, const Field4& rho) {
+  const double m_small = tiny_rho * cell_volume;
+  Kokkos::parallel_for(
+      "mpmice::rigid_density_reset", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k) { rho(m, i, j, k) = m_small / cell_volume; });
+  const double l0 = lower[0], l1 = lower[1], l2 = lower[2], i0 = inv_h[0], i1 = inv_h[1], i2 = inv_h[2];
+  Kokkos::parallel_for(
+      "mpmice::rigid_particle_density", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+        const int i = int(math::floor((data(p, column(ParticleField::x)) - l0) * i0));
+        const int j = int(math::floor((data(p, column(ParticleField::y)) - l1) * i1));
+        const int k = int(math::floor((data(p, column(ParticleField::z)) - l2) * i2));
+        Kokkos::atomic_add(&rho(m, i, j, k), data(p, column(ParticleField::mass)) / cell_volume);
       });
 }
 
