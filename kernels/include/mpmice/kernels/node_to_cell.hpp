@@ -67,20 +67,33 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
 /// rho_r = (m_small + sum of the masses of its particles in the cell)/V. Its velocity is
 /// prescribed, so no momentum has to match node sums; and its surface then lies where
 /// its particles are instead of being spread over half a cell by (E13). An addition to
-/// the algorithm document (docs/design.md).
+/// the algorithm document (docs/design.md). The sums are exact integers in units of
+/// 2^-40 of the heaviest particle, so they do not depend on the order in which threads
+/// add (runs and restarts reproduce bit for bit).
 inline void rigid_particle_density(const IndexBox& cells, double cell_volume, int m, const double* lower,
                                    const double* inv_h, long count, const ParticleData& data, const Field4& rho) {
   const double m_small = tiny_rho * cell_volume;
-  Kokkos::parallel_for(
-      "mpmice::rigid_density_reset", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k) { rho(m, i, j, k) = m_small / cell_volume; });
+  double m_max = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::rigid_mass_max", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, double& mx) {
+        const double mp = data(p, column(ParticleField::mass));
+        if (mp > mx) mx = mp;
+      },
+      Kokkos::Max<double>(m_max));
+  const double quantum = (m_max > 0 ? m_max : 1.0) * 0x1p-40;
+  Kokkos::View<long long***, MemSpace> units("mpmice::rigid_mass_units", rho.extent(1), rho.extent(2), rho.extent(3));
   const double l0 = lower[0], l1 = lower[1], l2 = lower[2], i0 = inv_h[0], i1 = inv_h[1], i2 = inv_h[2];
   Kokkos::parallel_for(
       "mpmice::rigid_particle_density", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         const int i = int(math::floor((data(p, column(ParticleField::x)) - l0) * i0));
         const int j = int(math::floor((data(p, column(ParticleField::y)) - l1) * i1));
         const int k = int(math::floor((data(p, column(ParticleField::z)) - l2) * i2));
-        Kokkos::atomic_add(&rho(m, i, j, k), data(p, column(ParticleField::mass)) / cell_volume);
+        Kokkos::atomic_add(&units(i, j, k), (long long)(data(p, column(ParticleField::mass)) / quantum + 0.5));
+      });
+  Kokkos::parallel_for(
+      "mpmice::rigid_density", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        rho(m, i, j, k) = (m_small + double(units(i, j, k)) * quantum) / cell_volume;
       });
 }
 
