@@ -1,5 +1,7 @@
 #include "checkpoint.hpp"
 
+#include "hdf5_io.hpp"
+
 #include <hdf5.h>
 
 #include <algorithm>
@@ -64,34 +66,8 @@ std::string get_string(hid_t obj, const char* name) {
 // with `total` rows.
 void block_io(hid_t file, const std::string& name, bool write, hsize_t total, hsize_t cols, hsize_t offset,
               hsize_t rows, double* data) {
-  hsize_t gdims[2] = {total, cols}, start[2] = {offset, 0}, count[2] = {rows, cols};
-  hid_t dset;
-  hid_t filespace;
-  if (write) {
-    filespace = H5Screate_simple(2, gdims, nullptr);
-    dset = H5Dcreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, filespace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  } else {
-    dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-    if (dset < 0) throw InputError("--restart", "the checkpoint has no dataset '" + name + "'");
-    filespace = H5Dget_space(dset);
-  }
-  hid_t memspace = H5Screate_simple(2, count, nullptr);
-  if (rows == 0) {
-    H5Sselect_none(filespace);
-    H5Sselect_none(memspace);
-  } else {
-    H5Sselect_hyperslab(filespace, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  }
-  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-  if (write)
-    H5Dwrite(dset, H5T_NATIVE_DOUBLE, memspace, filespace, xfer, data);
-  else
-    H5Dread(dset, H5T_NATIVE_DOUBLE, memspace, filespace, xfer, data);
-  H5Pclose(xfer);
-  H5Sclose(memspace);
-  H5Sclose(filespace);
-  H5Dclose(dset);
+  if (!collective_block_io(file, name, write, {total, cols}, {offset, 0}, {rows, cols}, data))
+    throw InputError("--restart", "the checkpoint has no dataset '" + name + "'");
 }
 
 hsize_t dataset_rows(hid_t file, const std::string& name) {
@@ -105,47 +81,19 @@ hsize_t dataset_rows(hid_t file, const std::string& name) {
   return dims[0];
 }
 
-hid_t open_file(const std::string& path, MPI_Comm comm, bool create) {
-  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
-  hid_t f = create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl)
-                   : H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
-  H5Pclose(fapl);
-  return f;
-}
-
 // Cells as rows: every global cell, x slowest (global index order), one column per
 // material. This rank's owned cells are the rows of its patch, so the block is not
 // contiguous: read and write go through a strided hyperslab per (i, j) column of k.
 void cell_io(hid_t file, const Problem& pb, const std::string& name, bool write, double* local_block,
              int columns) {
   const Patch& p = pb.patch();
-  const hsize_t N[3] = {hsize_t(p.grid.cells[0]), hsize_t(p.grid.cells[1]), hsize_t(p.grid.cells[2])};
-  hsize_t gdims[4] = {N[0], N[1], N[2], hsize_t(columns)};
-  hsize_t start[4] = {hsize_t(p.lo[0]), hsize_t(p.lo[1]), hsize_t(p.lo[2]), 0};
-  hsize_t count[4] = {hsize_t(p.owned_cells(0)), hsize_t(p.owned_cells(1)), hsize_t(p.owned_cells(2)),
-                      hsize_t(columns)};
-  hid_t dset, filespace;
-  if (write) {
-    filespace = H5Screate_simple(4, gdims, nullptr);
-    dset = H5Dcreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, filespace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  } else {
-    dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-    if (dset < 0) throw InputError("--restart", "the checkpoint has no dataset '" + name + "'");
-    filespace = H5Dget_space(dset);
-  }
-  hid_t memspace = H5Screate_simple(4, count, nullptr);
-  H5Sselect_hyperslab(filespace, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-  if (write)
-    H5Dwrite(dset, H5T_NATIVE_DOUBLE, memspace, filespace, xfer, local_block);
-  else
-    H5Dread(dset, H5T_NATIVE_DOUBLE, memspace, filespace, xfer, local_block);
-  H5Pclose(xfer);
-  H5Sclose(memspace);
-  H5Sclose(filespace);
-  H5Dclose(dset);
+  const std::vector<hsize_t> global{hsize_t(p.grid.cells[0]), hsize_t(p.grid.cells[1]), hsize_t(p.grid.cells[2]),
+                                    hsize_t(columns)};
+  const std::vector<hsize_t> start{hsize_t(p.lo[0]), hsize_t(p.lo[1]), hsize_t(p.lo[2]), 0};
+  const std::vector<hsize_t> count{hsize_t(p.owned_cells(0)), hsize_t(p.owned_cells(1)), hsize_t(p.owned_cells(2)),
+                                   hsize_t(columns)};
+  if (!collective_block_io(file, name, write, global, start, count, local_block))
+    throw InputError("--restart", "the checkpoint has no dataset '" + name + "'");
 }
 
 }  // namespace
@@ -158,8 +106,9 @@ void write_checkpoint(const Problem& pb, double next_dt, const std::string& dir,
   char name[64];
   std::snprintf(name, sizeof name, "checkpoint_%06ld.h5", pb.step);
   const std::string path = dir + "/" + name, tmp = path + ".tmp";
-  hid_t f = open_file(tmp, comm, true);
-  if (f < 0) throw InvariantError("cannot create the checkpoint '" + tmp + "'");
+  ParallelH5File file(tmp, comm, true);
+  if (file.id < 0) throw InvariantError("cannot create the checkpoint '" + tmp + "'");
+  const hid_t f = file.id;
   const Grid& g = pb.patch().grid;
   put_attr(f, "time_step_dt", {pb.time, double(pb.step), next_dt, double(pb.particles_left_domain)});
   put_attr(f, "grid", {double(g.cells[0]), double(g.cells[1]), double(g.cells[2]), g.lower[0], g.lower[1],
@@ -217,7 +166,7 @@ void write_checkpoint(const Problem& pb, double next_dt, const std::string& dir,
     put_attr(dset, "rank_counts", c);
     H5Dclose(dset);
   }
-  H5Fclose(f);
+  file.close();
   MPI_Barrier(comm);
   if (rank == 0) {
     std::rename(tmp.c_str(), path.c_str());
@@ -253,24 +202,22 @@ double read_checkpoint(Problem& pb, const std::string& file) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our own messages instead of HDF5's stack
-  hid_t f = open_file(file, comm, false);
-  if (f < 0) throw InputError("--restart", "cannot open the checkpoint '" + file + "'");
+  ParallelH5File h5(file, comm, false);
+  if (h5.id < 0) throw InputError("--restart", "cannot open the checkpoint '" + file + "'");
+  const hid_t f = h5.id;
   const auto tsd = get_attr(f, "time_step_dt");
   const auto grid = get_attr(f, "grid");
   const auto ranks = get_attr(f, "ranks");
   if (tsd.size() != 4 || grid.size() != 9 || ranks.size() != 4) {
-    H5Fclose(f);
     throw InputError("--restart", "'" + file + "' is not an mpmice checkpoint");
   }
   const Grid& g = pb.patch().grid;
   for (int d = 0; d < 3; ++d)
     if (int(grid[d]) != g.cells[d] || grid[3 + d] != g.lower[d] || grid[6 + d] != g.spacing[d]) {
-      H5Fclose(f);
       throw InputError("--restart", "the checkpoint '" + file + "' was written for another grid (grid.cells, "
                                     "grid.lower or grid.upper differ from the input)");
     }
   if (get_string(f, "materials") != material_list(pb)) {
-    H5Fclose(f);
     throw InputError("--restart", "the checkpoint '" + file + "' was written for other materials (" +
                                       get_string(f, "materials") + " against " + material_list(pb) + ")");
   }
@@ -345,7 +292,7 @@ double read_checkpoint(Problem& pb, const std::string& file) {
     Kokkos::deep_copy(ps.id(), id);
     pb.particles[s] = std::move(ps);
   }
-  H5Fclose(f);
+  h5.close();
   for (const auto& name : pb.fields.names())
     if (name != "NC_CCweight") pb.fields.set_valid_ghosts(name, 0);
   return tsd[2];

@@ -1,5 +1,7 @@
 #include "output_hdf5.hpp"
 
+#include "hdf5_io.hpp"
+
 #include <hdf5.h>
 
 #include <cstdio>
@@ -12,45 +14,11 @@
 namespace mpmice {
 namespace {
 
-// An HDF5 file open for parallel writing, closed on scope exit.
-struct H5File {
-  hid_t id = -1;
-  H5File(const std::string& path, MPI_Comm comm) {
-    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-    H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
-    id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-    H5Pclose(fapl);
-    if (id < 0) throw InvariantError("cannot create the output file '" + path + "'");
-  }
-  ~H5File() {
-    if (id >= 0) H5Fclose(id);
-  }
-};
-
-// Write `local` (this rank's block, C order) into a dataset of `global` dims at
-// `offset`, collectively.
+// Write this rank's block (C order) of a dataset of `global` dims at `offset`.
 void write_block(hid_t file, const std::string& name, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
-                 const std::vector<double>& local) {
-  const int rank = int(global.size());
-  hid_t filespace = H5Screate_simple(rank, global.data(), nullptr);
-  hid_t dset = H5Dcreate2(file, name.c_str(), H5T_NATIVE_DOUBLE, filespace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  hid_t memspace = H5Screate_simple(rank, count.data(), nullptr);
-  hsize_t total = 1;
-  for (auto c : count) total *= c;
-  if (total == 0) {
-    H5Sselect_none(filespace);
-    H5Sselect_none(memspace);
-  } else {
-    H5Sselect_hyperslab(filespace, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr);
-  }
-  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-  H5Dwrite(dset, H5T_NATIVE_DOUBLE, memspace, filespace, xfer, local.empty() ? nullptr : local.data());
-  H5Pclose(xfer);
-  H5Sclose(memspace);
-  H5Dclose(dset);
-  H5Sclose(filespace);
+                 std::vector<double> local) {
+  collective_block_io(file, name, true, global, offset, count, local.empty() ? nullptr : local.data());
 }
 
 void write_attribute(hid_t file, const char* name, double value) {
@@ -159,7 +127,8 @@ std::string FieldOutput::write(const Problem& pb) {
   const Patch& p = pb.patch();
   std::vector<long> particle_counts(pb.solid_count(), 0);
   {
-    H5File file(tmp, comm);
+    ParallelH5File file(tmp, comm, true);
+    if (file.id < 0) throw InvariantError("cannot create the output file '" + tmp + "'");
     write_attribute(file.id, "time", pb.time);
     write_attribute(file.id, "step", double(pb.step));
     if (pb.has_cells()) {
