@@ -25,7 +25,12 @@ def main():
         first = trial == 0
         cmd = [exe] + common + ([] if first else ["--restart", "latest"])
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(rng.uniform(0.4, 1.2))
+        if first:  # a slow (e.g. sanitized) build may need long to write its first checkpoint
+            deadline = time.time() + 120
+            while time.time() < deadline and proc.poll() is None and not any(
+                    f.startswith("checkpoint_") and f.endswith(".h5") for f in os.listdir(work)):
+                time.sleep(0.05)
+        time.sleep(rng.uniform(0.2, 1.0))
         proc.send_signal(signal.SIGKILL)
         proc.wait()
         ckpts = sorted(f for f in os.listdir(work) if f.startswith("checkpoint_") and f.endswith(".h5"))
