@@ -33,9 +33,9 @@ inline MaterialTable gas_table(int materials) {
   return t;
 }
 
-/// A per-material cell field with values around `base`, varying by +-`spread`.
-inline Field4 cell_field(const Patch& p, int materials, double base, double spread, unsigned seed) {
-  Field4 f = make_field("bench", p, Location::cell, materials);
+/// Fill every entry of `f` with values around `base`, varying by +-`spread`.
+template <class View>
+View randomised(View f, double base, double spread, unsigned seed) {
   auto h = Kokkos::create_mirror_view(f);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-spread, spread);
@@ -44,14 +44,13 @@ inline Field4 cell_field(const Patch& p, int materials, double base, double spre
   return f;
 }
 
+/// A per-material cell field with values around `base`, varying by +-`spread`.
+inline Field4 cell_field(const Patch& p, int materials, double base, double spread, unsigned seed) {
+  return randomised(make_field("bench", p, Location::cell, materials), base, spread, seed);
+}
+
 inline Field3 cell_scalar(const Patch& p, double base, double spread, unsigned seed) {
-  Field3 f = make_field("bench", p, Location::cell);
-  auto h = Kokkos::create_mirror_view(f);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  for (std::size_t i = 0; i < h.size(); ++i) h.data()[i] = base * (1.0 + u(rng));
-  Kokkos::deep_copy(f, h);
-  return f;
+  return randomised(make_field("bench", p, Location::cell), base, spread, seed);
 }
 
 /// `count` particles spread over the patch's owned cells (sorted by cell, as the

@@ -111,14 +111,10 @@ void Diagnostics::write_fields_csv(const Problem& pb, const std::string& path) {
   const Patch& p = pb.patch();
   const int n = pb.material_count();
   MPI_Comm comm = pb.decomposition->comm();
-  auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("rho_CC"));
-  auto temp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("temp_CC"));
-  auto spv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("sp_vol_CC"));
-  auto press = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field3>("press_CC"));
-  const VectorField4 vel_d = vector_field(pb.fields, "vel_CC");
-  decltype(rho) vel[3] = {Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[0]),
-                          Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[1]),
-                          Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[2])};
+  const HostState st = host_state(pb);
+  const auto &rho = st.rho, &temp = st.temp, &spv = st.sp_vol;
+  const auto& press = st.press;
+  const auto& vel = st.vel;
   // Row: i, j, k, m, x, y, z, density, velocity_x, velocity_y, velocity_z,
   // temperature, specific_volume, volume_fraction, pressure.
   constexpr int width = 15;

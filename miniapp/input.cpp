@@ -425,17 +425,8 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
       for (int d = 0; d < 3; ++d)
         if (probe.position[d] < in.grid.lower[d] || probe.position[d] > in.grid.upper[d])
           r.fail("position", "lies outside the grid");
-      probe.quantities = r.get<std::vector<std::string>>("quantities");
+      probe.quantities = r.names("quantities", probe_quantities());
       if (probe.quantities.empty()) r.fail("quantities", "must name at least one quantity");
-      for (const auto& q : probe.quantities) {
-        bool ok = false;
-        for (const auto& a : probe_quantities()) ok |= a == q;
-        if (!ok) {
-          std::string list_s;
-          for (const auto& a : probe_quantities()) list_s += (list_s.empty() ? "" : ", ") + a;
-          r.fail("quantities", "names '" + q + "' (allowed: " + list_s + ")");
-        }
-      }
       r.finish();
       in.probes.push_back(probe);
     }
@@ -446,18 +437,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.output.probe_interval = long(o.number_or("probe_interval", 1, 1, 1e15));
     in.output.final_fields = o.query<bool>("final_fields", false);
     in.output.field_interval = long(o.number_or("field_interval", 0, 0, 1e15));
-    if (o.has("fields")) {
-      in.output.fields = o.get<std::vector<std::string>>("fields");
-      for (const auto& f : in.output.fields) {
-        bool ok = false;
-        for (const auto& a : field_output_names()) ok |= a == f;
-        if (!ok) {
-          std::string list_s;
-          for (const auto& a : field_output_names()) list_s += (list_s.empty() ? "" : ", ") + a;
-          o.fail("fields", "names '" + f + "' (allowed: " + list_s + ")");
-        }
-      }
-    }
+    if (o.has("fields")) in.output.fields = o.names("fields", field_output_names());
     o.finish();
   }
   if (in.output.fields.empty()) in.output.fields = field_output_names();

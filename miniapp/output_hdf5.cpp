@@ -149,17 +149,13 @@ std::string FieldOutput::write(const Problem& pb) {
               for (int c = 0; c < comps; ++c) out[q++] = value(i, j, k, c);
         return out;
       };
-      auto press = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field3>("press_CC"));
+      const HostState st = host_state(pb);
+      const auto &rho = st.rho, &temp = st.temp, &spv = st.sp_vol;
+  const auto& press = st.press;
+      const auto& vel = st.vel;
       if (wanted(pb, "pressure"))
         write_block(file.id, "/cells/pressure", global, offset, count,
                     gather([&](int i, int j, int k, int) { return press(i, j, k); }, 1));
-      auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("rho_CC"));
-      auto temp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("temp_CC"));
-      auto spv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>("sp_vol_CC"));
-      const VectorField4 vel_d = vector_field(pb.fields, "vel_CC");
-      decltype(rho) vel[3] = {Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[0]),
-                              Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[1]),
-                              Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), vel_d[2])};
       for (int m : pb.ice) {
         const std::string mat = pb.input.materials[m].name;
         if (wanted(pb, "density"))

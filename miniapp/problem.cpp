@@ -247,6 +247,16 @@ void initialize_state(Problem& pb) {
 
 }  // namespace
 
+HostState host_state(const Problem& pb) {
+  auto copy = [](const auto& view) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view); };
+  const VectorField4 vel = vector_field(pb.fields, "vel_CC");
+  return HostState{copy(pb.fields.get<Field4>("rho_CC")),
+                   copy(pb.fields.get<Field4>("temp_CC")),
+                   copy(pb.fields.get<Field4>("sp_vol_CC")),
+                   {copy(vel[0]), copy(vel[1]), copy(vel[2])},
+                   copy(pb.fields.get<Field3>("press_CC"))};
+}
+
 void fill_state_extra_cells(Problem& pb, const std::string& suffix) {
   const Patch& p = pb.patch();
   const BoundaryInput& bc = pb.input.boundary;

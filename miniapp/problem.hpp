@@ -58,6 +58,14 @@ std::array<std::string, 3> components(const std::string& name);
 /// The three component views of a registered vector field.
 VectorField4 vector_field(const FieldRegistry& fields, const std::string& name);
 
+/// Host copies of the fluid state (cell fields of every material), for output.
+struct HostState {
+  Field4::HostMirror rho, temp, sp_vol;
+  Field4::HostMirror vel[3];
+  Field3::HostMirror press;
+};
+HostState host_state(const Problem& problem);
+
 /// Fill the extra cells of every persistent state field (density, velocity,
 /// temperature, specific volume, pressure), with the given suffix ("" or "_new").
 void fill_state_extra_cells(Problem& problem, const std::string& suffix);

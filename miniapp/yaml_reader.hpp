@@ -85,6 +85,21 @@ class Reader {
     return v;
   }
 
+  /// A list of names, each one of `allowed`.
+  std::vector<std::string> names(const std::string& key, const std::vector<std::string>& allowed) {
+    auto values = get<std::vector<std::string>>(key);
+    for (const auto& v : values) {
+      bool ok = false;
+      for (const auto& a : allowed) ok |= a == v;
+      if (!ok) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(key, "names '" + v + "' (allowed: " + list + ")");
+      }
+    }
+    return values;
+  }
+
   /// Reject keys that were not read.
   void finish() const {
     if (!is_map()) return;
