@@ -126,6 +126,13 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
     m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
     m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
   }
+  for (int s = 0; s < pb.solid_count(); ++s) {
+    // A rigid body's particle masses never change: one mass unit for the whole run, the
+    // same on every rank (rigid_particle_to_cell).
+    const double heaviest = global_max(pb.decomposition->comm(),
+                                       max_particle_mass(long(pb.particles[s].size()), pb.particles[s].data()));
+    m_rigid_mass_quantum.push_back((heaviest > 0 ? heaviest : 1.0) * 0x1p-40);
+  }
   if (pb.solid_count() > 0) {
     // The first step's limit from the initial particles (stress from F = I: zero).
     const NodeGrid grid = node_grid(p);
@@ -193,13 +200,18 @@ void Cycle::add_node_to_cell_step() {
         const auto sp_vol = ctx.write<Field4>("sp_vol_CC");
         for (int s = 0; s < m_pb.solid_count(); ++s) {
           const int m = m_pb.mpm[s];
-          node_to_cell(owned, V, s, m, m_pb.materials.eos[m], ctx.read<Field3>("NC_CCweight"),
-                       ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), ctx.read<Field4>("temp_NC"),
-                       ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
           if (m_pb.materials.is_rigid(m)) {
             const NodeGrid grid = node_grid(p);  // node 0 is also cell 0's low corner
-            rigid_particle_density(owned, V, m, grid.lower, grid.inv_h, long(m_pb.particles[s].size()),
-                                   m_pb.particles[s].data(), rho);
+            const SolidModel& model = m_pb.solids[s];
+            Kokkos::Array<double, 3> v;
+            for (int d = 0; d < 3; ++d) v[d] = model.rigid_speed_fraction(m_time) * model.prescribed_velocity[d];
+            rigid_particle_to_cell(owned, V, m, m_pb.materials.eos[m], grid.lower, grid.inv_h,
+                                   m_rigid_mass_quantum[s], v, long(m_pb.particles[s].size()),
+                                   m_pb.particles[s].data(), ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
+          } else {
+            node_to_cell(owned, V, s, m, m_pb.materials.eos[m], ctx.read<Field3>("NC_CCweight"),
+                         ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), ctx.read<Field4>("temp_NC"),
+                         ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
           }
           fill_extra_cells(rho, m, p, bc.density, -1);
           fill_extra_cells(temp, m, p, bc.temperature, -1);
@@ -532,9 +544,10 @@ void Cycle::add_particle_update_steps() {
                            for (int s = 0; s < ns; ++s) {
                              const SolidModel& model = m_pb.solids[s];
                              const bool rigid = model.type == SolidModelType::rigid;
-                             const bool moving = m_time < model.stop_time;
+                             // Mid-step speed: the stroke integrates the ramp to second order.
+                             const double speed = model.rigid_speed_fraction(m_time + 0.5 * dt);
                              Kokkos::Array<double, 3> v{0, 0, 0};
-                             for (int d = 0; d < 3; ++d) v[d] = moving ? model.prescribed_velocity[d] : 0.0;
+                             for (int d = 0; d < 3; ++d) v[d] = speed * model.prescribed_velocity[d];
                              const ParticleSet& ps = m_pb.particles[s];
                              with_shape(gimp, [&](auto shape) {
                                g2p<decltype(shape)>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star,

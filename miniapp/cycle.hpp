@@ -51,6 +51,7 @@ class Cycle {
   StepRunner m_runner;
   std::vector<Step> m_steps;
   double m_dt = 0, m_time = 0;
+  std::vector<double> m_rigid_mass_quantum;  // per solid: rigid_particle_to_cell's mass unit, kg
   double m_mpm_dt_limit = 1e300;  // from the last stress update (E58)
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;

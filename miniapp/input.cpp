@@ -306,6 +306,9 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
           const auto v = r.vector3("prescribed_velocity");
           for (int d = 0; d < 3; ++d) sm.prescribed_velocity[d] = v[d];
           sm.stop_time = r.number_or("stop_time", 1e300, 0.0, big);
+          sm.ramp_time = r.number_or("ramp_time", 0.0, 0.0, big);
+          if (2 * sm.ramp_time > sm.stop_time)
+            r.fail("ramp_time", "is more than half of stop_time (the rise and the fall would overlap)");
         } else {
           sm.shear_modulus = r.number("shear_modulus", 0.0, big);
           if (sm.type == SolidModelType::neo_hookean_plastic) {

@@ -82,6 +82,7 @@ std::string resolved_yaml(const Input& in) {
         mat["prescribed_velocity"] = seq(std::vector<double>{s.prescribed_velocity[0], s.prescribed_velocity[1],
                                                              s.prescribed_velocity[2]});
         mat["stop_time"] = s.stop_time;
+        mat["ramp_time"] = s.ramp_time;
       } else {
         mat["shear_modulus"] = s.shear_modulus;
         if (s.type == SolidModelType::neo_hookean_plastic) {

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "cycle.hpp"
@@ -13,6 +15,7 @@
 
 #include "checkpoint.hpp"
 #include "diagnostics.hpp"
+#include "input_echo.hpp"
 #include "output_hdf5.hpp"
 #include "problem.hpp"
 
@@ -30,6 +33,11 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
   if (rank == 0) {
     std::error_code ec;
     std::filesystem::create_directories(options.output_dir, ec);
+    // The run's input with every default filled in, beside its outputs (post-processing
+    // scripts read the problem's parameters from it).
+    const std::string path = options.output_dir + "/input.yaml", tmp = path + ".tmp";
+    std::ofstream(tmp) << "# resolved input of " << input.file << "\n" << resolved_yaml(input);
+    std::rename(tmp.c_str(), path.c_str());
   }
   MPI_Barrier(comm);
   double dt = std::min(input.time.dt_initial, input.time.dt_max);

@@ -63,37 +63,73 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
       });
 }
 
-/// A rigid body's cell density from the particles inside each cell (particle-to-cell):
-/// rho_r = (m_small + sum of the masses of its particles in the cell)/V. Its velocity is
-/// prescribed, so no momentum has to match node sums; and its surface then lies where
-/// its particles are instead of being spread over half a cell by (E13). An addition to
-/// the algorithm document (docs/design.md). The sums are exact integers in units of
-/// 2^-40 of the heaviest particle, so they do not depend on the order in which threads
-/// add (runs and restarts reproduce bit for bit).
-inline void rigid_particle_density(const IndexBox& cells, double cell_volume, int m, const double* lower,
-                                   const double* inv_h, long count, const ParticleData& data, const Field4& rho) {
-  const double m_small = tiny_rho * cell_volume;
+/// The heaviest particle of a set (0 if empty): the driver makes it global and takes
+/// 2^-40 of it as the mass unit of rigid_particle_to_cell.
+inline double max_particle_mass(long count, const ParticleData& data) {
   double m_max = 0;
   Kokkos::parallel_reduce(
-      "mpmice::rigid_mass_max", Kokkos::RangePolicy<ExecSpace>(0, count),
+      "mpmice::max_particle_mass", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(long p, double& mx) {
         const double mp = data(p, column(ParticleField::mass));
         if (mp > mx) mx = mp;
       },
       Kokkos::Max<double>(m_max));
-  const double quantum = (m_max > 0 ? m_max : 1.0) * 0x1p-40;
-  Kokkos::View<long long***, MemSpace> units("mpmice::rigid_mass_units", rho.extent(1), rho.extent(2), rho.extent(3));
+  return m_max;
+}
+
+/// A rigid body's cell density, velocity and temperature from its particles
+/// (particle-to-cell): rho_r = (m_small + sum of the masses of its particles in the
+/// cell)/V. Its velocity is prescribed, so no momentum has to match node sums; and its
+/// surface then lies where its particles are instead of being spread over half a cell
+/// by (E13). An addition to the algorithm document (docs/design.md). The body moves as
+/// one: every cell, with or without particles, gets its prescribed `velocity` at this
+/// time (not a node average that rounds differently on other decompositions). The
+/// temperature is the particles' mass-weighted mean, blended with the old one in
+/// nearly empty cells as (E13) does. All sums are exact integers - masses in units of
+/// `mass_quantum` (the driver passes 2^-40 of the heaviest particle on any rank),
+/// temperatures as whole kelvin plus 2^-20 K units, weighted by 2^-20 of the heaviest
+/// mass - so they do not depend on the order in which threads or ranks add: the same
+/// run on any decomposition, and its restarts, give the same cells bit for bit. The
+/// specific volume is set as in node_to_cell. Replaces node_to_cell for rigid bodies.
+inline void rigid_particle_to_cell(const IndexBox& cells, double cell_volume, int m, const Eos& eos,
+                                   const double* lower, const double* inv_h, double mass_quantum,
+                                   Kokkos::Array<double, 3> velocity, long count,
+                                   const ParticleData& data, const ConstField3& press, const Field4& rho,
+                                   const VectorField4& vel, const Field4& temp, const Field4& sp_vol) {
+  const double m_small = tiny_rho * cell_volume;
+  const double q_m = mass_quantum, q_t = 0x1p-20;
+  const std::size_t n0 = rho.extent(1), n1 = rho.extent(2), n2 = rho.extent(3);
+  Kokkos::View<long long***, MemSpace> mass_units("mpmice::rigid_mass_units", n0, n1, n2);
+  Kokkos::View<long long***, MemSpace> weight_units("mpmice::rigid_weight_units", n0, n1, n2);
+  Kokkos::View<long long***, MemSpace> kelvin_units("mpmice::rigid_kelvin_units", n0, n1, n2);
+  Kokkos::View<long long***, MemSpace> fraction_units("mpmice::rigid_fraction_units", n0, n1, n2);
   const double l0 = lower[0], l1 = lower[1], l2 = lower[2], i0 = inv_h[0], i1 = inv_h[1], i2 = inv_h[2];
   Kokkos::parallel_for(
-      "mpmice::rigid_particle_density", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+      "mpmice::rigid_particle_sums", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         const int i = int(math::floor((data(p, column(ParticleField::x)) - l0) * i0));
         const int j = int(math::floor((data(p, column(ParticleField::y)) - l1) * i1));
         const int k = int(math::floor((data(p, column(ParticleField::z)) - l2) * i2));
-        Kokkos::atomic_add(&units(i, j, k), (long long)(data(p, column(ParticleField::mass)) / quantum + 0.5));
+        const long long mu = (long long)(data(p, column(ParticleField::mass)) / q_m + 0.5);
+        const long long wu = (mu + (1LL << 19)) >> 20;  // <= 2^20 for the heaviest particle
+        const double t = data(p, column(ParticleField::temperature));
+        const double whole = math::floor(t);
+        Kokkos::atomic_add(&mass_units(i, j, k), mu);
+        Kokkos::atomic_add(&weight_units(i, j, k), wu);
+        Kokkos::atomic_add(&kelvin_units(i, j, k), wu * (long long)whole);
+        Kokkos::atomic_add(&fraction_units(i, j, k), wu * (long long)((t - whole) / q_t + 0.5));
       });
   Kokkos::parallel_for(
-      "mpmice::rigid_density", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        rho(m, i, j, k) = (m_small + double(units(i, j, k)) * quantum) / cell_volume;
+      "mpmice::rigid_particle_to_cell", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double mass = m_small + double(mass_units(i, j, k)) * q_m;
+        rho(m, i, j, k) = mass / cell_volume;
+        for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = velocity[d];
+        const long long w = weight_units(i, j, k);
+        if (w > 0) {
+          const double mean = (double(kelvin_units(i, j, k)) + q_t * double(fraction_units(i, j, k))) / double(w);
+          const double z = (mass - m_small) / mass;
+          temp(m, i, j, k) = (1.0 - z) * temp(m, i, j, k) + z * mean;
+        }
+        sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), temp(m, i, j, k));
       });
 }
 

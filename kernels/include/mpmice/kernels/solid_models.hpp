@@ -6,6 +6,8 @@
 ///        stress, tension positive, Pa.
 #include <mpmice/kernels/mat3.hpp>
 
+#include <cmath>
+
 namespace mpmice {
 
 enum class SolidModelType : int { neo_hookean = 0, neo_hookean_plastic = 1, rigid = 2 };
@@ -20,6 +22,21 @@ struct SolidModel {
   double cv = 1000.0;             ///< specific heat, J/kg/K
   double prescribed_velocity[3] = {0, 0, 0};  ///< m/s (rigid)
   double stop_time = 1e300;       ///< after this the rigid material stops, s
+  double ramp_time = 0;           ///< rigid speed rises from 0 (and falls to 0 at stop_time) over this, s
+
+  /// Rigid speed as a fraction of `prescribed_velocity` at time t: a sin^2 rise over
+  /// [0, ramp_time], 1, a cos^2 fall over [stop_time - ramp_time, stop_time], 0 after.
+  /// Each ramp integrates to ramp_time / 2, so the stroke is |v| (stop_time - ramp_time).
+  /// Host-side (the driver passes the resulting velocity to the kernels).
+  double rigid_speed_fraction(double t) const {
+    if (t >= stop_time || t < 0) return 0.0;
+    if (ramp_time <= 0) return 1.0;
+    const double half_pi = 1.5707963267948966;
+    const double rise = t < ramp_time ? std::sin(half_pi * t / ramp_time) : 1.0;
+    const double left = stop_time - t;
+    const double fall = left < ramp_time ? std::sin(half_pi * left / ramp_time) : 1.0;
+    return rise * rise * fall * fall;
+  }
 
   /// Dilatational wave speed at density rho (E58).
   KOKKOS_INLINE_FUNCTION double wave_speed(double rho) const {
