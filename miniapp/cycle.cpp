@@ -360,6 +360,7 @@ void Cycle::add_force_steps() {
   const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
   const auto g = m_pb.input.mpm.gravity;
   const Kokkos::Array<double, 3> gravity{g[0], g[1], g[2]};
+  const double damping = m_pb.input.mpm.damping;
   const double p_ref = m_pb.input.mpm.reference_pressure;
   const double& dt = m_dt;
   if (m_pb.has_cells()) {
@@ -391,7 +392,7 @@ void Cycle::add_force_steps() {
       "grid_acceleration", cat<FieldRead>({{{"mass_NC", 0}}, vec("vel_NC", 0), vec("fint_NC", 0), vec("fext_NC", 0)}),
       cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC")}), [=, &dt](const StepContext& ctx) {
         for (int s = 0; s < ns; ++s)
-          grid_acceleration(nodes, s, dt, gravity, m_pb.solids[s].type == SolidModelType::rigid,
+          grid_acceleration(nodes, s, dt, gravity, damping, m_pb.solids[s].type == SolidModelType::rigid,
                             ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), read_vec(ctx, "fint_NC"),
                             read_vec(ctx, "fext_NC"), write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
       }});

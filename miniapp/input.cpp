@@ -152,7 +152,7 @@ void read_exchange_list(Reader& ex, const std::string& key, Input& in, std::vect
 const std::vector<std::string>& field_output_names() {
   static const std::vector<std::string> q{"pressure", "density", "temperature", "volume_fraction", "velocity",
                                           "particle_velocity", "particle_mass", "particle_temperature",
-                                          "von_mises_stress"};
+                                          "von_mises_stress", "particle_stress"};
   return q;
 }
 
@@ -267,6 +267,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     in.mpm.gimp = mpm.choice("shape", {"gimp", "linear"}, "gimp") == "gimp";
     in.mpm.pic_fraction = mpm.number_or("pic_fraction", 0.0, 0.0, 1.0);
     in.mpm.gravity = mpm.vector3_or("gravity", {0, 0, 0});
+    in.mpm.damping = mpm.number_or("damping", 0.0, 0.0, big);
     in.mpm.sort_interval = long(mpm.number_or("sort_interval", 20, 0, 1e9));
     in.mpm.reference_pressure = mpm.number_or("reference_pressure", 101325.0, 0.0, big, true);
     mpm.finish();

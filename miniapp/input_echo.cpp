@@ -58,6 +58,7 @@ std::string resolved_yaml(const Input& in) {
   mpm["shape"] = in.mpm.gimp ? "gimp" : "linear";
   mpm["pic_fraction"] = in.mpm.pic_fraction;
   mpm["gravity"] = seq(in.mpm.gravity);
+  mpm["damping"] = in.mpm.damping;
   mpm["sort_interval"] = in.mpm.sort_interval;
   mpm["reference_pressure"] = in.mpm.reference_pressure;
   root["mpm"] = mpm;

@@ -86,13 +86,13 @@ std::string xdmf_grids(const Problem& pb, const std::string& h5, const std::vect
       << indent << "    <DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
       << h5 << ":/particles/" << name << "/position</DataItem>\n"
       << indent << "  </Geometry>\n";
-    for (const char* q : {"mass", "temperature", "velocity", "von_mises_stress"}) {
+    for (const char* q : {"mass", "temperature", "velocity", "von_mises_stress", "stress"}) {
       const std::string key = std::string(q) == "von_mises_stress" ? q : "particle_" + std::string(q);
       if (!wanted(pb, key)) continue;
-      const bool vector = std::string(q) == "velocity";
-      x << indent << "  <Attribute Name=\"" << q << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
-        << "\" Center=\"Node\">\n"
-        << indent << "    <DataItem Dimensions=\"" << n << (vector ? " 3" : "")
+      const bool vector = std::string(q) == "velocity", tensor = std::string(q) == "stress";
+      x << indent << "  <Attribute Name=\"" << q << "\" AttributeType=\""
+        << (vector ? "Vector" : tensor ? "Tensor" : "Scalar") << "\" Center=\"Node\">\n"
+        << indent << "    <DataItem Dimensions=\"" << n << (vector ? " 3" : tensor ? " 9" : "")
         << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":/particles/" << name << "/" << q
         << "</DataItem>\n"
         << indent << "  </Attribute>\n";
@@ -208,6 +208,10 @@ std::string FieldOutput::write(const Problem& pb) {
         write_block(file.id, base + "/mass", g1, o1, c1, column_of(ParticleField::mass, 1));
       if (wanted(pb, "particle_temperature"))
         write_block(file.id, base + "/temperature", g1, o1, c1, column_of(ParticleField::temperature, 1));
+      if (wanted(pb, "particle_stress")) {
+        const std::vector<hsize_t> g9{hsize_t(total), 9}, o9{hsize_t(before), 0}, c9{hsize_t(mine), 9};
+        write_block(file.id, base + "/stress", g9, o9, c9, column_of(ParticleField::s00, 9));
+      }
       if (wanted(pb, "von_mises_stress")) {
         std::vector<double> vm(mine);
         for (long q = 0; q < mine; ++q) vm[q] = std::sqrt(1.5) * load_tensor(data, q, ParticleField::s00).deviator().norm();

@@ -133,6 +133,8 @@ std::unique_ptr<Problem> run(const Input& input, const RunOptions& options, MPI_
     }
   }
   const double wall = std::chrono::duration<double>(clock::now() - start).count();
+  // The final state is always among the field outputs.
+  if (field_interval > 0 && pb.step % field_interval != 0) fields.write(pb);
   if (input.output.final_fields && pb.has_cells())
     Diagnostics::write_fields_csv(pb, options.output_dir + "/fields.csv");
   std::cout << std::flush;

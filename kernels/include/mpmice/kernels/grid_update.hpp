@@ -6,17 +6,21 @@
 
 namespace mpmice {
 
-/// a = (f_int + f_ext)/m + g, v* = v + dt a on `nodes` (E26). A rigid material
-/// (`rigid`) keeps v* = v, a = 0.
+/// a = (f_int + f_ext)/m + g - alpha v, v* = v + dt a on `nodes` (E26). A rigid
+/// material (`rigid`) keeps v* = v, a = 0. `damping` alpha (1/s, usually 0) is an
+/// artificial damping of the solid's motion for problems that seek a static state
+/// (as Uintah's artificial damping); it removes momentum and energy on purpose.
 inline void grid_acceleration(const IndexBox& nodes, int m, double dt, Kokkos::Array<double, 3> gravity,
-                              bool rigid, const ConstField4& mass, const ConstVectorField4& vel,
+                              double damping, bool rigid, const ConstField4& mass, const ConstVectorField4& vel,
                               const ConstVectorField4& fint, const ConstVectorField4& fext,
                               const VectorField4& vel_star, const VectorField4& acc) {
   Kokkos::parallel_for(
       "mpmice::grid_acceleration", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
         const double inv = 1.0 / mass(m, i, j, k);
         for (int d = 0; d < 3; ++d) {
-          const double a = rigid ? 0.0 : (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d];
+          const double a = rigid ? 0.0
+                                 : (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d] -
+                                       damping * vel[d](m, i, j, k);
           acc[d](m, i, j, k) = a;
           vel_star[d](m, i, j, k) = vel[d](m, i, j, k) + dt * a;
         }
