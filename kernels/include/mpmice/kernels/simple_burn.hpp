@@ -1,0 +1,143 @@
+#pragma once
+/// \file simple_burn.hpp
+/// \brief Step 4: the solid -> gas reaction of the seed paper (eqs. 5-8), Simple Burn:
+///        a reactant (MPM material) burns on its surface into a product gas (ICE
+///        material) above a threshold temperature and pressure (E44-E46), and the
+///        volume fractions after the reaction (E17).
+#include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/math.hpp>
+
+namespace mpmice {
+
+/// Parameters of one reactant -> product pair (mpmice-algorithm.md section 8).
+struct SimpleBurn {
+  int reactant = -1;           ///< cell material of the reactant (an MPM material)
+  int reactant_slot = -1;      ///< its node slot
+  int product = -1;            ///< cell material of the product (an ICE material)
+  double threshold_temperature = 450;  ///< T_thr, K
+  double threshold_pressure = 50000;   ///< p_thr, Pa
+  double enthalpy = 2.0e6;             ///< dh released per kg burned, J/kg
+  double coefficient = 75.3;           ///< B, kg m^-2 s^-1
+  double reference_pressure = 101325;  ///< p_0, Pa
+  double exponent = 0.778;             ///< n (HMX)
+};
+
+/// The reaction's sources of every material, per cell: mass, momentum, internal
+/// energy and volume added (negative: removed) this step.
+struct ReactionSources {
+  Field4 mass;       ///< dm_r, kg
+  VectorField4 momentum;  ///< dP_r, kg m/s
+  Field4 energy;     ///< dE_r, J
+  Field4 volume;     ///< dV_r, m^3
+};
+
+/// The burning surface area in a cell from the reactant's node masses M at its 8
+/// corners (E44): 0 unless (Mmax - Mmin)/Mmax lies strictly between 0.4 and 1 and
+/// Mmax > 1e-12; else A = V / [(dx|n_x| + dy|n_y| + dz|n_z|) (1/max_d |n_d|)^{1/3}]
+/// with n the normalised mass gradient. `M[a][b][c]` is the corner (i+a, j+b, k+c).
+KOKKOS_INLINE_FUNCTION double burn_area(const double M[2][2][2], const double h[3]) {
+  double mmax = M[0][0][0], mmin = M[0][0][0];
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c) {
+        mmax = M[a][b][c] > mmax ? M[a][b][c] : mmax;
+        mmin = M[a][b][c] < mmin ? M[a][b][c] : mmin;
+      }
+  if (!(mmax > 1e-12)) return 0.0;
+  const double spread = (mmax - mmin) / mmax;
+  if (!(spread > 0.4 && spread < 1.0)) return 0.0;
+  double g[3] = {0, 0, 0};
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int c = 0; c < 2; ++c) {
+        const double sign[3] = {a ? -1.0 : 1.0, b ? -1.0 : 1.0, c ? -1.0 : 1.0};
+        for (int d = 0; d < 3; ++d) g[d] += 0.25 * sign[d] * M[a][b][c] / h[d];
+      }
+  const double norm = math::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  if (!(norm > 0)) return 0.0;
+  double n[3], nmax = 0, across = 0;
+  for (int d = 0; d < 3; ++d) {
+    n[d] = math::abs(g[d]) / norm;
+    nmax = n[d] > nmax ? n[d] : nmax;
+    across += h[d] * n[d];
+  }
+  return h[0] * h[1] * h[2] / (across * math::pow(1.0 / nmax, 1.0 / 3.0));
+}
+
+/// Simple Burn on `cells` (E44-E46), adding to `src` (zeroed by the caller): in every
+/// cell whose reactant surface is found from the node masses w_i m_i (`weight`,
+/// `node_mass` slot reactant_slot), with T_b = max T_r^n over materials with
+/// theta_r > 0.2 and T_r^n > T_thr, and p_eq > p_thr, the reactant loses
+/// dm = dt A B (p_eq/p_0)^n (at most its cell mass rho_s V) with its momentum dm u_s,
+/// internal energy dm c_v,s T_s and volume dm v_s, which the product gains, with the
+/// heat of reaction dm dh on top. Returns the mass burned on `cells` this step (kg).
+inline double simple_burn(const IndexBox& cells, const double h[3], double dt, int materials,
+                          const SimpleBurn& burn, double reactant_cv, const ConstField3& weight,
+                          const ConstField4& node_mass, const ConstField4& rho, const ConstVectorField4& vel,
+                          const ConstField4& temp, const ConstField4& sp_vol, const ConstField4& vol_frac,
+                          const ConstField3& press_eq, const ReactionSources& src) {
+  const double hx = h[0], hy = h[1], hz = h[2], V = h[0] * h[1] * h[2];
+  const SimpleBurn b = burn;
+  const ReactionSources out = src;
+  double burned = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::simple_burn", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& total) {
+        double M[2][2][2];
+        for (int a = 0; a < 2; ++a)
+          for (int c = 0; c < 2; ++c)
+            for (int e = 0; e < 2; ++e)
+              M[a][c][e] = weight(i + a, j + c, k + e) * node_mass(b.reactant_slot, i + a, j + c, k + e);
+        const double hh[3] = {hx, hy, hz};
+        const double area = burn_area(M, hh);
+        if (area <= 0) return;
+        double t_burn = 0;
+        for (int m = 0; m < materials; ++m) {
+          const double t = temp(m, i, j, k);
+          if (vol_frac(m, i, j, k) > 0.2 && t > b.threshold_temperature && t > t_burn) t_burn = t;
+        }
+        const double p = press_eq(i, j, k);
+        if (!(t_burn > b.threshold_temperature && p > b.threshold_pressure)) return;
+        const int s = b.reactant, g = b.product;
+        const double available = rho(s, i, j, k) * V;
+        double dm = dt * area * b.coefficient * math::pow(p / b.reference_pressure, b.exponent);
+        dm = dm < available ? dm : available;
+        const double e = dm * reactant_cv * temp(s, i, j, k);
+        out.mass(s, i, j, k) -= dm;
+        out.mass(g, i, j, k) += dm;
+        for (int d = 0; d < 3; ++d) {
+          out.momentum[d](s, i, j, k) -= dm * vel[d](s, i, j, k);
+          out.momentum[d](g, i, j, k) += dm * vel[d](s, i, j, k);
+        }
+        out.energy(s, i, j, k) -= e;
+        out.energy(g, i, j, k) += e + dm * b.enthalpy;
+        out.volume(s, i, j, k) -= dm * sp_vol(s, i, j, k);
+        out.volume(g, i, j, k) += dm * sp_vol(s, i, j, k);
+        total += dm;
+      },
+      burned);
+  return burned;
+}
+
+/// Volume fractions after the reaction (Step 4, E17): Vt = sum_r rho_r V v_r,
+/// theta_r = max((theta_r Vt + dV_r)/Vt, 1e-100), ftheta_r = theta_r kappa_r / SK
+/// with SK = sum theta_r kappa_r, on `cells` (extra cells included).
+inline void volume_fraction_after_reaction(const IndexBox& cells, double cell_volume, int materials,
+                                           const ConstField4& rho, const ConstField4& sp_vol,
+                                           const ConstField4& kappa, const ConstField4& dV,
+                                           const Field4& vol_frac, const Field3& sum_kappa) {
+  Kokkos::parallel_for(
+      "mpmice::volume_fraction_after_reaction", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double vt = 0;
+        for (int m = 0; m < materials; ++m) vt += rho(m, i, j, k) * cell_volume * sp_vol(m, i, j, k);
+        double sk = 0;
+        for (int m = 0; m < materials; ++m) {
+          const double theta = (vol_frac(m, i, j, k) * vt + dV(m, i, j, k)) / vt;
+          vol_frac(m, i, j, k) = theta > 1e-100 ? theta : 1e-100;
+          sk += vol_frac(m, i, j, k) * kappa(m, i, j, k);
+        }
+        sum_kappa(i, j, k) = sk;
+      });
+}
+
+}  // namespace mpmice
