@@ -213,9 +213,13 @@ void Cycle::add_node_to_cell_step() {
                          ctx.read<Field4>("mass_NC"), read_vec(ctx, "vel_NC"), ctx.read<Field4>("temp_NC"),
                          ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
           }
-          fill_extra_cells(rho, m, p, bc.density, -1);
-          fill_extra_cells(temp, m, p, bc.temperature, -1);
-          fill_extra_cells(sp_vol, m, p, mirror_or_zero_gradient(bc.velocity), -1);
+          // A solid does not flow in: its extra cells mirror the inside (zero gradient);
+          // the faces' density and temperature conditions are the fluids'. (A Dirichlet
+          // density there would advect solid volume fraction in through an inflow.)
+          const FaceBcs inside = mirror_or_zero_gradient(bc.velocity);
+          fill_extra_cells(rho, m, p, inside, -1);
+          fill_extra_cells(temp, m, p, inside, -1);
+          fill_extra_cells(sp_vol, m, p, inside, -1);
           for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], m, p, bc.velocity, d);
         }
       }});
