@@ -202,11 +202,9 @@ void Cycle::add_node_to_cell_step() {
           const int m = m_pb.mpm[s];
           if (m_pb.materials.is_rigid(m)) {
             const NodeGrid grid = node_grid(p);  // node 0 is also cell 0's low corner
-            const SolidModel& model = m_pb.solids[s];
-            Kokkos::Array<double, 3> v;
-            for (int d = 0; d < 3; ++d) v[d] = model.rigid_speed_fraction(m_time) * model.prescribed_velocity[d];
             rigid_particle_to_cell(owned, V, m, m_pb.materials.eos[m], grid.lower, grid.inv_h,
-                                   m_rigid_mass_quantum[s], v, long(m_pb.particles[s].size()),
+                                   m_rigid_mass_quantum[s], m_pb.solids[s].rigid_velocity(m_time),
+                                   long(m_pb.particles[s].size()),
                                    m_pb.particles[s].data(), ctx.read<Field3>("press_CC"), rho, vel, temp, sp_vol);
           } else {
             node_to_cell(owned, V, s, m, m_pb.materials.eos[m], ctx.read<Field3>("NC_CCweight"),
@@ -549,10 +547,8 @@ void Cycle::add_particle_update_steps() {
                            for (int s = 0; s < ns; ++s) {
                              const SolidModel& model = m_pb.solids[s];
                              const bool rigid = model.type == SolidModelType::rigid;
-                             // Mid-step speed: the stroke integrates the ramp to second order.
-                             const double speed = model.rigid_speed_fraction(m_time + 0.5 * dt);
-                             Kokkos::Array<double, 3> v{0, 0, 0};
-                             for (int d = 0; d < 3; ++d) v[d] = speed * model.prescribed_velocity[d];
+                             // Mid-step velocity: the stroke integrates the ramp to second order.
+                             const Kokkos::Array<double, 3> v = model.rigid_velocity(m_time + 0.5 * dt);
                              const ParticleSet& ps = m_pb.particles[s];
                              with_shape(gimp, [&](auto shape) {
                                g2p<decltype(shape)>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star,

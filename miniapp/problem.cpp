@@ -91,8 +91,7 @@ void create_particles(Problem& pb) {
                   row[tensor_column(ParticleField::be00, d, d)] = 1.0;
                 }
                 if (model.type == SolidModelType::rigid)
-                  for (int d = 0; d < 3; ++d)
-                    row[column(ParticleField::vx) + d] = model.rigid_speed_fraction(0.0) * model.prescribed_velocity[d];
+                  for (int d = 0; d < 3; ++d) row[column(ParticleField::vx) + d] = model.rigid_velocity(0.0)[d];
                 row[column(ParticleField::volume)] = cell_volume / ppc;
                 row[column(ParticleField::mass)] = model.density * cell_volume / ppc;
                 row[column(ParticleField::temperature)] = piece.temperature;

@@ -99,10 +99,9 @@ inline void rigid_particle_to_cell(const IndexBox& cells, double cell_volume, in
   const double m_small = tiny_rho * cell_volume;
   const double q_m = mass_quantum, q_t = 0x1p-20;
   const std::size_t n0 = rho.extent(1), n1 = rho.extent(2), n2 = rho.extent(3);
-  Kokkos::View<long long***, MemSpace> mass_units("mpmice::rigid_mass_units", n0, n1, n2);
-  Kokkos::View<long long***, MemSpace> weight_units("mpmice::rigid_weight_units", n0, n1, n2);
-  Kokkos::View<long long***, MemSpace> kelvin_units("mpmice::rigid_kelvin_units", n0, n1, n2);
-  Kokkos::View<long long***, MemSpace> fraction_units("mpmice::rigid_fraction_units", n0, n1, n2);
+  // Per cell: mass, temperature weight, weighted whole kelvin, weighted 2^-20 K units.
+  enum { mass_units, weight_units, kelvin_units, fraction_units };
+  Kokkos::View<long long****, MemSpace> units("mpmice::rigid_particle_units", 4, n0, n1, n2);
   const double l0 = lower[0], l1 = lower[1], l2 = lower[2], i0 = inv_h[0], i1 = inv_h[1], i2 = inv_h[2];
   Kokkos::parallel_for(
       "mpmice::rigid_particle_sums", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
@@ -113,19 +112,20 @@ inline void rigid_particle_to_cell(const IndexBox& cells, double cell_volume, in
         const long long wu = (mu + (1LL << 19)) >> 20;  // <= 2^20 for the heaviest particle
         const double t = data(p, column(ParticleField::temperature));
         const double whole = math::floor(t);
-        Kokkos::atomic_add(&mass_units(i, j, k), mu);
-        Kokkos::atomic_add(&weight_units(i, j, k), wu);
-        Kokkos::atomic_add(&kelvin_units(i, j, k), wu * (long long)whole);
-        Kokkos::atomic_add(&fraction_units(i, j, k), wu * (long long)((t - whole) / q_t + 0.5));
+        Kokkos::atomic_add(&units(mass_units, i, j, k), mu);
+        Kokkos::atomic_add(&units(weight_units, i, j, k), wu);
+        Kokkos::atomic_add(&units(kelvin_units, i, j, k), wu * (long long)whole);
+        Kokkos::atomic_add(&units(fraction_units, i, j, k), wu * (long long)((t - whole) / q_t + 0.5));
       });
   Kokkos::parallel_for(
       "mpmice::rigid_particle_to_cell", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double mass = m_small + double(mass_units(i, j, k)) * q_m;
+        const double mass = m_small + double(units(mass_units, i, j, k)) * q_m;
         rho(m, i, j, k) = mass / cell_volume;
         for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = velocity[d];
-        const long long w = weight_units(i, j, k);
+        const long long w = units(weight_units, i, j, k);
         if (w > 0) {
-          const double mean = (double(kelvin_units(i, j, k)) + q_t * double(fraction_units(i, j, k))) / double(w);
+          const double kelvin = double(units(kelvin_units, i, j, k));
+          const double mean = (kelvin + q_t * double(units(fraction_units, i, j, k))) / double(w);
           const double z = (mass - m_small) / mass;
           temp(m, i, j, k) = (1.0 - z) * temp(m, i, j, k) + z * mean;
         }

@@ -37,6 +37,11 @@ struct SolidModel {
     const double fall = left < ramp_time ? std::sin(half_pi * left / ramp_time) : 1.0;
     return rise * rise * fall * fall;
   }
+  /// The rigid body's velocity at time t, m/s (host-side, as rigid_speed_fraction).
+  Kokkos::Array<double, 3> rigid_velocity(double t) const {
+    const double f = rigid_speed_fraction(t);
+    return {f * prescribed_velocity[0], f * prescribed_velocity[1], f * prescribed_velocity[2]};
+  }
 
   /// Dilatational wave speed at density rho (E58).
   KOKKOS_INLINE_FUNCTION double wave_speed(double rho) const {
