@@ -47,6 +47,7 @@ TEST(Ranks, Disks) { compare("disks.yaml", {}); }
 // compression, 5300 steps); the block travels across both patches of the periodic
 // box. The rigid piston's cells come from exact integer particle sums and its
 // prescribed velocity (rigid_particle_to_cell), so nothing depends on the order in
-// which ranks add: measured 3.3e-15, the history's own sums.
+// which ranks add: measured 3e-15 to 5e-15 (the history's own sums,
+// whose thread order varies from run to run).
 TEST(Ranks, Piston) { compare("piston.yaml", {"grid.cells=[1,100,1]"}); }
 TEST(Ranks, BlockInGas) { compare("block_in_gas.yaml", {"time.max_steps=200"}); }
