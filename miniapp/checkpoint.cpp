@@ -17,6 +17,14 @@ namespace {
 // The state fields a checkpoint holds (cell fields exist with fluids).
 const char* cell_fields[] = {"rho_CC", "temp_CC", "sp_vol_CC", "vel_CC_x", "vel_CC_y", "vel_CC_z"};
 
+// The state fields of this problem: with reactions also what Step 4 decided to burn in
+// the next step.
+std::vector<std::string> state_fields(const Problem& pb) {
+  std::vector<std::string> names(std::begin(cell_fields), std::end(cell_fields));
+  if (!pb.reactions.empty()) names.push_back("burn_dm_CC");
+  return names;
+}
+
 std::string material_list(const Problem& pb) {
   std::string s;
   for (const auto& m : pb.input.materials) s += m.name + (m.is_solid ? "(solid);" : "(fluid);");
@@ -111,6 +119,7 @@ void write_checkpoint(const Problem& pb, double next_dt, const std::string& dir,
   const hid_t f = file.id;
   const Grid& g = pb.patch().grid;
   put_attr(f, "time_step_dt", {pb.time, double(pb.step), next_dt, double(pb.particles_left_domain)});
+  put_attr(f, "reactions", {pb.chemical_energy_released, double(pb.particles_burned_out)});
   put_attr(f, "grid", {double(g.cells[0]), double(g.cells[1]), double(g.cells[2]), g.lower[0], g.lower[1],
                        g.lower[2], g.spacing[0], g.spacing[1], g.spacing[2]});
   put_attr(f, "ranks", {double(size), double(pb.decomposition->dims()[0]), double(pb.decomposition->dims()[1]),
@@ -128,10 +137,10 @@ void write_checkpoint(const Problem& pb, double next_dt, const std::string& dir,
           for (int k = own.lo[2]; k < own.hi[2]; ++k)
             for (int m = 0; m < n; ++m) block[q++] = value(m, i, j, k);
     };
-    for (const char* field : cell_fields) {
+    for (const std::string& field : state_fields(pb)) {
       auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field4>(field));
       pack([&](int m, int i, int j, int k) { return h(m, i, j, k); });
-      cell_io(f, pb, std::string("/") + field, true, block.data(), n);
+      cell_io(f, pb, "/" + field, true, block.data(), n);
     }
     auto press = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pb.fields.get<Field3>("press_CC"));
     std::vector<double> pblock(std::size_t(own.size()));
@@ -224,13 +233,18 @@ double read_checkpoint(Problem& pb, const std::string& file) {
   pb.time = tsd[0];
   pb.step = long(tsd[1]);
   pb.particles_left_domain = long(tsd[3]);
+  const auto reactions = get_attr(f, "reactions");
+  if (reactions.size() == 2) {
+    pb.chemical_energy_released = reactions[0];
+    pb.particles_burned_out = long(reactions[1]);
+  }
   const Patch& p = pb.patch();
   const IndexBox own = p.owned_cells();
   const int n = pb.material_count();
   if (pb.has_cells()) {
     std::vector<double> block(std::size_t(own.size()) * n);
-    for (const char* field : cell_fields) {
-      cell_io(f, pb, std::string("/") + field, false, block.data(), n);
+    for (const std::string& field : state_fields(pb)) {
+      cell_io(f, pb, "/" + field, false, block.data(), n);
       Field4 view = pb.fields.get<Field4>(field);
       auto h = Kokkos::create_mirror_view(view);
       Kokkos::deep_copy(h, view);

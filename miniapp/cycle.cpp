@@ -9,6 +9,7 @@
 #include <mpmice/kernels/cell_to_node.hpp>
 #include <mpmice/kernels/mpm_lagrangian_values.hpp>
 #include <mpmice/kernels/node_to_cell.hpp>
+#include <mpmice/kernels/particle_burn.hpp>
 #include <mpmice/kernels/particle_pressure.hpp>
 #include <mpmice/kernels/conserved_to_primitive.hpp>
 #include <mpmice/kernels/errors.hpp>
@@ -27,6 +28,7 @@
 #include <mpmice/kernels/kinetic_energy_fix.hpp>
 #include <mpmice/kernels/lagrangian_values.hpp>
 #include <mpmice/kernels/pressure_update.hpp>
+#include <mpmice/kernels/simple_burn.hpp>
 #include <mpmice/kernels/sources.hpp>
 #include <mpmice/kernels/specific_volume.hpp>
 #include <mpmice/kernels/timestep.hpp>
@@ -141,6 +143,7 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
                                                               pb.particles[s].data(), pb.solids[s], 0.0));
   }
   const bool cells = pb.has_cells(), solids = pb.solid_count() > 0;
+  if (!pb.reactions.empty()) add_burn_step();
   if (solids) add_particle_to_grid_steps();
   if (cells && solids) add_node_to_cell_step();
   if (cells) add_pressure_steps();
@@ -149,6 +152,38 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
   if (solids) add_particle_update_steps();
   if (cells) add_advection_steps();
   for (const auto& s : m_steps) m_runner.validate(s);
+}
+
+// Step 4's transfer (E46), one step after Step 4 decided it: the reactant's particles lose
+// the mass burn_dm_CC holds, the products gain it (reaction_*_CC), burned-out particles
+// go. Done before P2G so that the solid's nodes and cells never see the burned mass
+// (particle_burn.hpp; docs/design.md, "Reactions").
+void Cycle::add_burn_step() {
+  const Patch& p = m_pb.patch();
+  const NodeGrid grid = node_grid(p);
+  m_burn_cell_mass = make_field("burn_cell_mass", p, Location::cell);
+  m_steps.push_back(Step{
+      "burn_particles", {{"burn_dm_CC", 0}},
+      cat<FieldWrite>({{{"reaction_mass_CC"}, {"reaction_eng_CC"}}, vec_out("reaction_mom_CC")}),
+      [this, grid](const StepContext& ctx) {
+        const ProductSources src{ctx.write<Field4>("reaction_mass_CC"), write_vec(ctx, "reaction_mom_CC"),
+                                 ctx.write<Field4>("reaction_eng_CC")};
+        Kokkos::deep_copy(src.mass, 0.0);
+        Kokkos::deep_copy(src.energy, 0.0);
+        for (int d = 0; d < 3; ++d) Kokkos::deep_copy(src.momentum[d], 0.0);
+        double chemical = 0;
+        long burned_out = 0;
+        for (const SimpleBurn& b : m_pb.reactions) {
+          ParticleSet& ps = m_pb.particles[b.reactant_slot];
+          chemical += burn_particles(grid, long(ps.size()), ps.data(), m_pb.materials.eos[b.reactant].cv, b,
+                                     ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src)
+                          .chemical;
+          burned_out += remove_massless_particles(ps);
+        }
+        MPI_Comm comm = m_pb.decomposition->comm();
+        m_pb.chemical_energy_released += global_sum(comm, chemical);
+        m_pb.particles_burned_out += global_sum(comm, burned_out);
+      }});
 }
 
 // Step 1 (E12) and the node velocity and temperature; Steps 12 and 14 come later.
@@ -259,6 +294,24 @@ void Cycle::add_pressure_steps() {
         specific_volume_from_density(with_extra, owned, n, out.vol_frac, in.rho, out.sp_vol);
       }});
 
+  // Step 4 (E44-E45): what each reactant burns; the particles lose it at the start of
+  // the next step (add_burn_step). (E17) is not needed: the reactant's volume leaves
+  // with its particles' mass, so the volume fractions stay those of Step 3.
+  if (!pb.reactions.empty()) {
+    const std::vector<SimpleBurn> reactions = pb.reactions;
+    m_steps.push_back(Step{
+        "burn_rate",
+        {{"mass_NC", 1}, {"NC_CCweight", 1}, {"rho_CC", 0}, {"temp_CC", 0}, {"vol_frac_CC", 0}, {"press_equil_CC", 0}},
+        {{"burn_dm_CC"}},
+        [=, &dt](const StepContext& ctx) {
+          const double hh[3] = {h[0], h[1], h[2]};
+          for (const SimpleBurn& b : reactions)
+            burn_rate(owned, hh, dt, n, b, ctx.read<Field3>("NC_CCweight"), ctx.read<Field4>("mass_NC"),
+                      ctx.read<Field4>("rho_CC"), ctx.read<Field4>("temp_CC"), ctx.read<Field4>("vol_frac_CC"),
+                      ctx.read<Field3>("press_equil_CC"), ctx.write<Field4>("burn_dm_CC"));
+        }});
+  }
+
   // Step 5 (E18)
   m_steps.push_back(Step{
       "face_velocity",
@@ -289,9 +342,13 @@ void Cycle::add_pressure_steps() {
       }});
 
   // Step 7 (E20, with Adv[theta] of section 6)
+  const bool reacting = !pb.reactions.empty();
+  Reads mass_source_read;
+  if (reacting) mass_source_read.push_back({"reaction_mass_CC", 0});
   m_steps.push_back(Step{
       "pressure_update",
-      cat<FieldRead>({{{"vol_frac_CC", 2},
+      cat<FieldRead>({mass_source_read,
+                      {{"vol_frac_CC", 2},
                        {"sp_vol_equil_CC", 0},
                        {"sumKappa_CC", 0},
                        {"press_equil_CC", 0},
@@ -310,7 +367,8 @@ void Cycle::add_pressure_steps() {
           advection_change(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), adv);
         }
         const auto press = ctx.write<Field3>("press_CC_new");
-        pressure_update(owned, V, n, adv, ConstField4(), ctx.read<Field4>("sp_vol_equil_CC"),
+        const ConstField4 mass_source = reacting ? ConstField4(ctx.read<Field4>("reaction_mass_CC")) : ConstField4();
+        pressure_update(owned, V, n, adv, mass_source, ctx.read<Field4>("sp_vol_equil_CC"),
                         ctx.read<Field3>("sumKappa_CC"), ctx.read<Field3>("press_equil_CC"),
                         ctx.write<Field3>("delP_Dilatate"), ctx.write<Field3>("delP_MassX"), press);
         fill_extra_cells(press, p, bc.pressure, -1);
@@ -419,6 +477,10 @@ void Cycle::add_lagrangian_steps() {
   Reads solid_reads;
   if (solids)
     solid_reads = cat<FieldRead>({{{"mass_NC", 1}, {"temp_NC", 1}, {"NC_CCweight", 1}}, vec("vel_star_NC", 1)});
+  const bool reacting = !pb.reactions.empty();
+  if (reacting)
+    solid_reads = cat<FieldRead>({solid_reads, {{"reaction_mass_CC", 0}, {"reaction_eng_CC", 0}},
+                                  vec("reaction_mom_CC", 0)});
   // Step 16 (E29)
   m_steps.push_back(Step{
       "lagrangian_values",
@@ -440,6 +502,11 @@ void Cycle::add_lagrangian_steps() {
                                 read_vec(ctx, "mom_source_CC"), write_vec(ctx, "mom_L_CC"),
                                 ctx.write<Field4>("int_eng_L_CC"));
         }
+        // (E30): what the products gained from the particles this step.
+        if (reacting)
+          add_product_sources(owned, n, ctx.read<Field4>("reaction_mass_CC"), read_vec(ctx, "reaction_mom_CC"),
+                              ctx.read<Field4>("reaction_eng_CC"), mass, write_vec(ctx, "mom_L_CC"),
+                              ctx.write<Field4>("int_eng_L_CC"));
       }});
 
   // Step 17 (E31)

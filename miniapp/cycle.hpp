@@ -40,6 +40,7 @@ class Cycle {
  private:
   // The cycle in the order of mpmice-algorithm.md section 5; each adds the steps of
   // its part that the problem's materials need.
+  void add_burn_step();
   void add_particle_to_grid_steps();
   void add_node_to_cell_step();
   void add_pressure_steps();
@@ -56,6 +57,7 @@ class Cycle {
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;
   Field4 m_adv_mass, m_adv_q, m_ke;
+  Field3 m_burn_cell_mass;  // burn_particles' scratch: the reactant's particle mass per cell
 };
 
 }  // namespace mpmice

@@ -76,6 +76,9 @@ Diagnostics::Diagnostics(const Problem& pb, const std::string& dir, long restart
   for (const auto& name : names)
     for (const char* q : {"mass", "momentum_x", "momentum_y", "momentum_z", "energy"})
       m_history << "," << q << ":" << name;
+  // With reactions the energy balance needs the solids' internal energy (the reactant's
+  // m c_v T goes to the products) and the heat of reaction released so far.
+  if (!pb.reactions.empty()) m_history << ",thermal_energy:solids,chemical_energy_released";
   m_history << "\n";
   m_probes << "step,time,probe,quantity,material,value\n";
   m_history.flush();
@@ -174,10 +177,19 @@ void Diagnostics::record(const Problem& pb, double dt) {
   const long step = pb.step;
   if (step % pb.input.output.history_interval == 0 || step == 0) {
     const auto t = totals(pb);
+    double thermal = 0;
+    if (!pb.reactions.empty()) {
+      for (int s = 0; s < pb.solid_count(); ++s)
+        thermal += particle_thermal_energy(long(pb.particles[s].size()), pb.particles[s].data(),
+                                           pb.materials.eos[pb.mpm[s]].cv);
+      thermal = global_sum(pb.decomposition->comm(), thermal);
+    }
     if (m_rank == 0) {
       m_history << step << "," << number(pb.time) << "," << number(dt);
       for (const auto& row : t)
         for (double v : row) m_history << "," << number(v);
+      if (!pb.reactions.empty())
+        m_history << "," << number(thermal) << "," << number(pb.chemical_energy_released);
       m_history << "\n";
       m_history.flush();
     }

@@ -336,6 +336,32 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
     read_exchange_list(ex, "heat", in, in.exchange.heat);
     ex.finish();
   }
+  // reactions
+  if (top.has("reactions")) {
+    YAML::Node list = top.node("reactions");
+    if (!list.IsSequence()) top.fail("reactions", "must be a list of {model: simple_burn, reactant, product, ...}");
+    for (std::size_t q = 0; q < list.size(); ++q) {
+      Reader r(list[q], "reactions." + std::to_string(q));
+      r.choice("model", {"simple_burn"});
+      SimpleBurn b;
+      b.reactant = material_index(in, r, "reactant");
+      b.product = material_index(in, r, "product");
+      const MaterialInput &reactant = in.materials[b.reactant], &product = in.materials[b.product];
+      if (!reactant.is_solid || reactant.solid.type == SolidModelType::rigid)
+        r.fail("reactant", "names '" + reactant.name + "', which is not a deformable solid (Simple Burn's reactant is an MPM material)");
+      if (product.is_solid) r.fail("product", "names '" + product.name + "', which is not a fluid");
+      for (const auto& other : in.reactions)
+        if (other.reactant == b.reactant) r.fail("reactant", "'" + reactant.name + "' already reacts in another reaction");
+      b.threshold_temperature = r.number_or("threshold_temperature", b.threshold_temperature, 0.0, big);
+      b.threshold_pressure = r.number_or("threshold_pressure", b.threshold_pressure, 0.0, big);
+      b.enthalpy = r.number_or("enthalpy", b.enthalpy, 0.0, big);
+      b.coefficient = r.number_or("coefficient", b.coefficient, 0.0, big);
+      b.reference_pressure = r.number_or("reference_pressure", b.reference_pressure, 0.0, big, true);
+      b.exponent = r.number_or("exponent", b.exponent, 0.0, 10.0);
+      r.finish();
+      in.reactions.push_back(b);
+    }
+  }
   // geometry
   {
     YAML::Node list = top.node("geometry");

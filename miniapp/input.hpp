@@ -7,6 +7,7 @@
 
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/eos.hpp>
+#include <mpmice/kernels/simple_burn.hpp>
 #include <mpmice/kernels/solid_models.hpp>
 
 namespace mpmice {
@@ -109,6 +110,9 @@ struct Input {
   std::vector<MaterialInput> materials;
   ExchangeInput exchange;
   std::vector<GeometryPiece> geometry;
+  /// Solid -> gas reactions (Simple Burn); `reactant` and `product` are material
+  /// indices (the node slot is filled in by the set-up).
+  std::vector<SimpleBurn> reactions;
   int sample_points = 2;  // per cell and direction, for volume fractions
   BoundaryInput boundary;
   std::vector<ProbeInput> probes;

@@ -110,6 +110,19 @@ std::string resolved_yaml(const Input& in) {
       }
     }
   root["exchange"] = exchange;
+  for (const auto& b : in.reactions) {
+    YAML::Node r;
+    r["model"] = "simple_burn";
+    r["reactant"] = in.materials[b.reactant].name;
+    r["product"] = in.materials[b.product].name;
+    r["threshold_temperature"] = b.threshold_temperature;
+    r["threshold_pressure"] = b.threshold_pressure;
+    r["enthalpy"] = b.enthalpy;
+    r["coefficient"] = b.coefficient;
+    r["reference_pressure"] = b.reference_pressure;
+    r["exponent"] = b.exponent;
+    root["reactions"].push_back(r);
+  }
   for (const auto& g : in.geometry) {
     YAML::Node piece;
     piece["material"] = in.materials[g.material].name;

@@ -167,6 +167,14 @@ void register_fields(Problem& pb) {
   cell4("temp_ME_CC");
   cell4("Tdot_CC");
   cell4("sp_vol_L_CC");
+  if (!pb.reactions.empty()) {
+    // Step 4: the mass each reactant is to burn next step (checkpointed: it carries
+    // the reaction from one step to the next), and what the product gains this step.
+    cell4("burn_dm_CC");
+    cell4("reaction_mass_CC");
+    vec4("reaction_mom_CC");
+    cell4("reaction_eng_CC");
+  }
 }
 
 // Volume fractions and state by sampling each cell with res^3 points; the last piece
@@ -311,6 +319,11 @@ std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm) {
       pb->materials.momentum_exchange[r * max_materials + s] = input.exchange.momentum[r * n + s];
       pb->materials.heat_exchange[r * max_materials + s] = input.exchange.heat[r * n + s];
     }
+  for (SimpleBurn b : input.reactions) {
+    for (int s = 0; s < pb->solid_count(); ++s)
+      if (pb->mpm[s] == b.reactant) b.reactant_slot = s;
+    pb->reactions.push_back(b);
+  }
   if (pb->has_cells()) {
     register_fields(*pb);
     initialize_state(*pb);

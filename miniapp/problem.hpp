@@ -11,6 +11,7 @@
 #include <mpmice/kernels/errors.hpp>
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/particles.hpp>
+#include <mpmice/kernels/simple_burn.hpp>
 #include <mpmice/kernels/solid_models.hpp>
 
 #include "input.hpp"
@@ -35,6 +36,10 @@ struct Problem {
   std::vector<SolidModel> solids;
   std::vector<ParticleSet> particles;
   long particles_left_domain = 0;  // removed at non-periodic boundaries, all ranks
+  /// The input's reactions with the reactant's node slot filled in.
+  std::vector<SimpleBurn> reactions;
+  double chemical_energy_released = 0;  // J, sum of dm dh since the start, all ranks
+  long particles_burned_out = 0;        // removed when their whole mass burned, all ranks
   double time = 0;  // s
   long step = 0;
 

@@ -1,12 +1,13 @@
 // Simple Burn (E44-E46): the burning area of planar surfaces against geometry, the
-// rate against dt A B (p/p0)^n, the thresholds and the cap at the reactant's mass,
-// and the sources conserving mass, momentum and volume exactly and adding dm dh of
-// energy; the volume fractions after the reaction (E17) still sum to one.
+// rate against dt A B (p/p0)^n, the thresholds and the cap at the reactant's mass;
+// the particles' transfer gives the product exactly what the particles lose (mass,
+// momentum, c_v T) plus dm dh, and burned-out particles are removed.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 
+#include <mpmice/kernels/particle_burn.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 
 using namespace mpmice;
@@ -26,12 +27,8 @@ void planar(int d, double full, double part, double M[2][2][2]) {
 // One cell (0,0,0) of two materials, reactant 0 (node slot 0) and product 1.
 struct BurnCell {
   Field4 rho{"rho", 2, 1, 1, 1}, temp{"temp", 2, 1, 1, 1}, sp_vol{"sp_vol", 2, 1, 1, 1},
-      vol_frac{"vol_frac", 2, 1, 1, 1}, node_mass{"node_mass", 1, 2, 2, 2};
-  VectorField4 vel{Field4("u", 2, 1, 1, 1), Field4("v", 2, 1, 1, 1), Field4("w", 2, 1, 1, 1)};
+      vol_frac{"vol_frac", 2, 1, 1, 1}, node_mass{"node_mass", 1, 2, 2, 2}, dm{"dm", 2, 1, 1, 1};
   Field3 weight{"weight", 2, 2, 2}, press{"press", 1, 1, 1};
-  ReactionSources src{Field4("dm", 2, 1, 1, 1),
-                      {Field4("dpx", 2, 1, 1, 1), Field4("dpy", 2, 1, 1, 1), Field4("dpz", 2, 1, 1, 1)},
-                      Field4("de", 2, 1, 1, 1), Field4("dv", 2, 1, 1, 1)};
   SimpleBurn burn;
 
   // Reactant fills 60% of the cell, cut normal to x; both materials at `t` K, p Pa.
@@ -51,9 +48,6 @@ struct BurnCell {
     set(temp, {t, t});
     set(sp_vol, {1 / 1800.0, 0.5});
     set(vol_frac, {0.6, 0.4});
-    set(vel[0], {3.0, -1.0});
-    set(vel[1], {-2.0, 0.5});
-    set(vel[2], {0.25, 0.0});
     Kokkos::deep_copy(press, p);
   }
   static void set(const Field4& f, std::array<double, 2> v) {
@@ -65,8 +59,7 @@ struct BurnCell {
   double run(double dt) {
     IndexBox cell;
     cell.hi[0] = cell.hi[1] = cell.hi[2] = 1;
-    const ConstVectorField4 u{vel[0], vel[1], vel[2]};
-    return simple_burn(cell, h, dt, 2, burn, 1500.0, weight, node_mass, rho, u, temp, sp_vol, vol_frac, press, src);
+    return burn_rate(cell, h, dt, 2, burn, weight, node_mass, rho, temp, vol_frac, press, dm);
   }
   double at(const Field4& f, int m) {
     auto host = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
@@ -95,25 +88,15 @@ TEST(SimpleBurn, PlanarSurfaceAreaIsTheCellFace) {
   EXPECT_EQ(burn_area(M, h), 0.0);
 }
 
-TEST(SimpleBurn, RateThresholdsAndConservation) {
+TEST(SimpleBurn, RateThresholdsAndCap) {
   const double dt = 1e-6, p = 2.0e6;
   BurnCell cell(500.0, p, 1800.0);
   const double burned = cell.run(dt);
-  // The planar x surface: A = hy hz; dm = dt A B (p/p0)^n.
+  // The planar x surface: A = hy hz; dm = dt A B (p/p0)^n (round-off of pow: 1e-15).
   const double dm = dt * h[1] * h[2] * 75.3 * std::pow(p / 101325.0, 0.778);
   EXPECT_NEAR(burned, dm, 1e-15 * dm);
-  EXPECT_NEAR(cell.at(cell.src.mass, 1), dm, 1e-15 * dm);
-  // Exactly what the reactant loses the product gains; energy gains dm dh.
-  EXPECT_EQ(cell.at(cell.src.mass, 0) + cell.at(cell.src.mass, 1), 0.0);
-  for (int d = 0; d < 3; ++d) {
-    EXPECT_EQ(cell.at(cell.src.momentum[d], 0) + cell.at(cell.src.momentum[d], 1), 0.0);
-    const double u[3] = {3.0, -2.0, 0.25};
-    EXPECT_NEAR(cell.at(cell.src.momentum[d], 1), dm * u[d], 1e-15);
-  }
-  EXPECT_EQ(cell.at(cell.src.volume, 0) + cell.at(cell.src.volume, 1), 0.0);
-  EXPECT_NEAR(cell.at(cell.src.energy, 0) + cell.at(cell.src.energy, 1), dm * cell.burn.enthalpy,
-              1e-12 * dm * cell.burn.enthalpy);
-  EXPECT_NEAR(cell.at(cell.src.energy, 1), dm * (1500.0 * 500.0 + cell.burn.enthalpy), 1e-9);
+  EXPECT_NEAR(cell.at(cell.dm, 0), dm, 1e-15 * dm);
+  EXPECT_EQ(cell.at(cell.dm, 1), 0.0);  // only the reactant's slot
 
   BurnCell cold(440.0, p, 1800.0);  // below T_thr
   EXPECT_EQ(cold.run(dt), 0.0);
@@ -123,32 +106,82 @@ TEST(SimpleBurn, RateThresholdsAndConservation) {
   BurnCell last(500.0, p, 1e-6);
   const double all = 1e-6 * h[0] * h[1] * h[2];
   EXPECT_NEAR(last.run(1e-3), all, 1e-15 * all);
-  EXPECT_NEAR(last.at(last.src.mass, 0), -all, 1e-15 * all);
 }
 
-TEST(SimpleBurn, VolumeFractionsStillFillTheCell) {
-  Field4 rho("rho", 2, 1, 1, 1), sp("sp", 2, 1, 1, 1), kappa("kappa", 2, 1, 1, 1), dV("dV", 2, 1, 1, 1),
-      theta("theta", 2, 1, 1, 1);
-  Field3 sk("sk", 1, 1, 1);
-  auto set = [](const Field4& f, double a, double b) {
-    auto m = Kokkos::create_mirror_view(f);
-    m(0, 0, 0, 0) = a;
-    m(1, 0, 0, 0) = b;
-    Kokkos::deep_copy(f, m);
-  };
-  const double V = 1e-6;
-  // Solid 1800 kg/m^3 at v = 1/1800 filling 60%, gas 2 kg/m^3 at v = 0.2 filling 40%.
-  set(rho, 1080.0, 0.8);
-  set(sp, 1 / 1800.0, 0.5);
-  set(theta, 0.6, 0.4);
-  set(kappa, 1e-10, 1e-5);
-  set(dV, -1e-8, 1e-8);  // 1% of the cell's volume moves from the solid to the gas
-  IndexBox cell;
-  cell.hi[0] = cell.hi[1] = cell.hi[2] = 1;
-  volume_fraction_after_reaction(cell, V, 2, rho, sp, kappa, dV, theta, sk);
-  auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), theta);
-  auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sk);
-  EXPECT_NEAR(t(0, 0, 0, 0), 0.59, 1e-14);
-  EXPECT_NEAR(t(1, 0, 0, 0), 0.41, 1e-14);
-  EXPECT_NEAR(s(0, 0, 0), 0.59 * 1e-10 + 0.41 * 1e-5, 1e-20);
+// Particles of the reactant (material 0) in two cells of a 2 x 1 x 1 patch: cell 0 burns
+// a third of its particles' mass, cell 1 more than it has. The product (material 1)
+// gains in each cell exactly what that cell's particles lost.
+TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
+  const int np = 6;
+  ParticleSet ps("reactant", np);
+  ps.resize(np);
+  auto d = Kokkos::create_mirror_view(ps.data());
+  auto id = Kokkos::create_mirror_view(ps.id());
+  const double x[np] = {0.002, 0.004, 0.008, 0.012, 0.016, 0.019};  // cells 0, 0, 0, 1, 1, 1 (hx = 0.01)
+  double cell_mass[2] = {0, 0};
+  for (int p = 0; p < np; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) d(p, c) = 0;
+    d(p, column(ParticleField::x)) = x[p];
+    d(p, column(ParticleField::y)) = 0.01;
+    d(p, column(ParticleField::z)) = 0.0025;
+    d(p, column(ParticleField::mass)) = 1e-3 * (p + 1);
+    d(p, column(ParticleField::volume)) = 1e-3 * (p + 1) / 1800.0;
+    d(p, column(ParticleField::vx)) = 1.0 + p;
+    d(p, column(ParticleField::vy)) = -0.5 * p;
+    d(p, column(ParticleField::vz)) = 0.25;
+    d(p, column(ParticleField::temperature)) = 500.0 + 10 * p;
+    id(p) = p;
+    cell_mass[x[p] < 0.01 ? 0 : 1] += 1e-3 * (p + 1);
+  }
+  Kokkos::deep_copy(ps.data(), d);
+  Kokkos::deep_copy(ps.id(), id);
+  Field4 dm("dm", 2, 2, 1, 1);
+  auto dm_h = Kokkos::create_mirror_view(dm);
+  dm_h(0, 0, 0, 0) = cell_mass[0] / 3;
+  dm_h(0, 1, 0, 0) = 2 * cell_mass[1];
+  Kokkos::deep_copy(dm, dm_h);
+  ProductSources src{Field4("m", 2, 2, 1, 1), {Field4("px", 2, 2, 1, 1), Field4("py", 2, 2, 1, 1), Field4("pz", 2, 2, 1, 1)},
+                     Field4("e", 2, 2, 1, 1)};
+  SimpleBurn burn;
+  burn.reactant = 0;
+  burn.reactant_slot = 0;
+  burn.product = 1;
+  const double cv = 1000.0;
+  NodeGrid grid{{0, 0, 0}, {h[0], h[1], h[2]}, {1 / h[0], 1 / h[1], 1 / h[2]}};
+  const BurnTotals t = burn_particles(grid, np, ps.data(), cv, burn, dm, Field3("scratch", 2, 1, 1), src);
+  const double expected = cell_mass[0] / 3 + cell_mass[1];
+  EXPECT_NEAR(t.mass, expected, 1e-15 * expected);
+  EXPECT_NEAR(t.chemical, expected * burn.enthalpy, 1e-15 * expected * burn.enthalpy);
+
+  auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  auto m_src = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), src.mass);
+  auto e_src = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), src.energy);
+  double lost_m[2] = {0, 0}, lost_e[2] = {0, 0}, lost_p[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  for (int p = 0; p < np; ++p) {
+    const int c = x[p] < 0.01 ? 0 : 1;
+    const double m0 = 1e-3 * (p + 1), m1 = after(p, column(ParticleField::mass));
+    // Cell 0: every particle keeps 2/3 of its mass and volume; cell 1 burns out.
+    EXPECT_NEAR(m1, c == 0 ? m0 * 2 / 3 : 0.0, 1e-15 * m0) << p;
+    EXPECT_NEAR(after(p, column(ParticleField::volume)) * 1800.0, m1, 1e-15 * m0) << p;
+    const double lost = m0 - m1;
+    lost_m[c] += lost;
+    lost_e[c] += lost * (cv * after(p, column(ParticleField::temperature)) + burn.enthalpy);
+    for (int k = 0; k < 3; ++k) lost_p[c][k] += lost * after(p, column(ParticleField::vx) + k);
+  }
+  for (int c = 0; c < 2; ++c) {
+    // Same sums in another order: equal to a few ulps.
+    EXPECT_NEAR(m_src(1, c, 0, 0), lost_m[c], 1e-15 * lost_m[c]) << c;
+    EXPECT_EQ(m_src(0, c, 0, 0), 0.0);  // the reactant's slot: its loss is on its particles
+    EXPECT_NEAR(e_src(1, c, 0, 0), lost_e[c], 1e-14 * lost_e[c]) << c;
+    for (int k = 0; k < 3; ++k) {
+      auto p_src = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), src.momentum[k]);
+      EXPECT_NEAR(p_src(1, c, 0, 0), lost_p[c][k], 1e-14 * std::abs(lost_p[c][0])) << c << k;
+    }
+  }
+  // The three burned-out particles go; the others keep their order and ids.
+  EXPECT_EQ(remove_massless_particles(ps), 3);
+  ASSERT_EQ(ps.size(), 3u);
+  auto ids = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
+  for (int p = 0; p < 3; ++p) EXPECT_EQ(ids(p), p);
+  EXPECT_EQ(remove_massless_particles(ps), 0);
 }

@@ -1,7 +1,7 @@
 #pragma once
 /// \file lagrangian_values.hpp
 /// \brief Step 16: the ICE materials' mass, momentum and internal energy after the
-///        Lagrangian phase, before exchange (E29).
+///        Lagrangian phase, before exchange (E29), and a reaction's products (E30).
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
@@ -28,6 +28,23 @@ inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTabl
           for (int d = 0; d < 3; ++d)
             mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k);
           int_eng_L(m, i, j, k) = mass * mats.eos[m].cv * temp(m, i, j, k) + int_eng_source(m, i, j, k);
+        }
+      });
+}
+
+/// (E30) for the products of a reaction: mL_r += dm_r, PL_r += dP_r, EL_r += dE_r on
+/// `cells` for every material (the sources are zero but in the products' slots). The
+/// products only gain (dm_r >= 0), so (E30)'s floors at TINY_RHO V never act; the
+/// reactant lost its share on its particles (particle_burn.hpp), not here.
+inline void add_product_sources(const IndexBox& cells, int materials, const ConstField4& mass_source,
+                                const ConstVectorField4& mom_source, const ConstField4& energy_source,
+                                const Field4& mass_L, const VectorField4& mom_L, const Field4& int_eng_L) {
+  Kokkos::parallel_for(
+      "mpmice::add_product_sources", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < materials; ++m) {
+          mass_L(m, i, j, k) += mass_source(m, i, j, k);
+          for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) += mom_source[d](m, i, j, k);
+          int_eng_L(m, i, j, k) += energy_source(m, i, j, k);
         }
       });
 }

@@ -36,4 +36,17 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
   return total;
 }
 
+/// Internal (thermal) energy of a solid's particles, sum m_p c_v T_p (J): what a
+/// reaction takes from the reactant into the products (E46).
+inline double particle_thermal_energy(long count, const ParticleData& data, double cv) {
+  double total = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::particle_thermal_energy", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, double& t) {
+        t += data(p, column(ParticleField::mass)) * cv * data(p, column(ParticleField::temperature));
+      },
+      total);
+  return total;
+}
+
 }  // namespace mpmice

@@ -2,8 +2,8 @@
 /// \file simple_burn.hpp
 /// \brief Step 4: the solid -> gas reaction of the seed paper (eqs. 5-8), Simple Burn:
 ///        a reactant (MPM material) burns on its surface into a product gas (ICE
-///        material) above a threshold temperature and pressure (E44-E46), and the
-///        volume fractions after the reaction (E17).
+///        material) above a threshold temperature and pressure: the burning area and
+///        the mass to burn per cell (E44-E45). particle_burn.hpp moves it (E46).
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/math.hpp>
 
@@ -20,15 +20,6 @@ struct SimpleBurn {
   double coefficient = 75.3;           ///< B, kg m^-2 s^-1
   double reference_pressure = 101325;  ///< p_0, Pa
   double exponent = 0.778;             ///< n (HMX)
-};
-
-/// The reaction's sources of every material, per cell: mass, momentum, internal
-/// energy and volume added (negative: removed) this step.
-struct ReactionSources {
-  Field4 mass;       ///< dm_r, kg
-  VectorField4 momentum;  ///< dP_r, kg m/s
-  Field4 energy;     ///< dE_r, J
-  Field4 volume;     ///< dV_r, m^3
 };
 
 /// The burning surface area in a cell from the reactant's node masses M at its 8
@@ -64,25 +55,24 @@ KOKKOS_INLINE_FUNCTION double burn_area(const double M[2][2][2], const double h[
   return h[0] * h[1] * h[2] / (across * math::pow(1.0 / nmax, 1.0 / 3.0));
 }
 
-/// Simple Burn on `cells` (E44-E46), adding to `src` (zeroed by the caller): in every
-/// cell whose reactant surface is found from the node masses w_i m_i (`weight`,
-/// `node_mass` slot reactant_slot), with T_b = max T_r^n over materials with
-/// theta_r > 0.2 and T_r^n > T_thr, and p_eq > p_thr, the reactant loses
-/// dm = dt A B (p_eq/p_0)^n (at most its cell mass rho_s V) with its momentum dm u_s,
-/// internal energy dm c_v,s T_s and volume dm v_s, which the product gains, with the
-/// heat of reaction dm dh on top. Returns the mass burned on `cells` this step (kg).
-inline double simple_burn(const IndexBox& cells, const double h[3], double dt, int materials,
-                          const SimpleBurn& burn, double reactant_cv, const ConstField3& weight,
-                          const ConstField4& node_mass, const ConstField4& rho, const ConstVectorField4& vel,
-                          const ConstField4& temp, const ConstField4& sp_vol, const ConstField4& vol_frac,
-                          const ConstField3& press_eq, const ReactionSources& src) {
+/// Simple Burn's rate on `cells` (E44-E45): in every cell whose reactant surface is
+/// found from the node masses w_i m_i (`weight`, `node_mass` slot reactant_slot), with
+/// T_b = max T_r^n over materials with theta_r > 0.2 and T_r^n > T_thr, and p_eq > p_thr,
+/// the reactant is to lose dm = dt A B (p_eq/p_0)^n, at most its cell mass rho_s V.
+/// Writes dm (kg) into slot `reactant` of `burn_dm` on `cells` (0 where nothing burns)
+/// and returns the sum over `cells`. The particles lose it and the product gains it in
+/// `burn_particles` (E46).
+inline double burn_rate(const IndexBox& cells, const double h[3], double dt, int materials, const SimpleBurn& burn,
+                        const ConstField3& weight, const ConstField4& node_mass, const ConstField4& rho,
+                        const ConstField4& temp, const ConstField4& vol_frac, const ConstField3& press_eq,
+                        const Field4& burn_dm) {
   const double hx = h[0], hy = h[1], hz = h[2], V = h[0] * h[1] * h[2];
   const SimpleBurn b = burn;
-  const ReactionSources out = src;
   double burned = 0;
   Kokkos::parallel_reduce(
-      "mpmice::simple_burn", cells.policy(),
+      "mpmice::burn_rate", cells.policy(),
       KOKKOS_LAMBDA(int i, int j, int k, double& total) {
+        burn_dm(b.reactant, i, j, k) = 0;
         double M[2][2][2];
         for (int a = 0; a < 2; ++a)
           for (int c = 0; c < 2; ++c)
@@ -98,46 +88,14 @@ inline double simple_burn(const IndexBox& cells, const double h[3], double dt, i
         }
         const double p = press_eq(i, j, k);
         if (!(t_burn > b.threshold_temperature && p > b.threshold_pressure)) return;
-        const int s = b.reactant, g = b.product;
-        const double available = rho(s, i, j, k) * V;
+        const double available = rho(b.reactant, i, j, k) * V;
         double dm = dt * area * b.coefficient * math::pow(p / b.reference_pressure, b.exponent);
         dm = dm < available ? dm : available;
-        const double e = dm * reactant_cv * temp(s, i, j, k);
-        out.mass(s, i, j, k) -= dm;
-        out.mass(g, i, j, k) += dm;
-        for (int d = 0; d < 3; ++d) {
-          out.momentum[d](s, i, j, k) -= dm * vel[d](s, i, j, k);
-          out.momentum[d](g, i, j, k) += dm * vel[d](s, i, j, k);
-        }
-        out.energy(s, i, j, k) -= e;
-        out.energy(g, i, j, k) += e + dm * b.enthalpy;
-        out.volume(s, i, j, k) -= dm * sp_vol(s, i, j, k);
-        out.volume(g, i, j, k) += dm * sp_vol(s, i, j, k);
+        burn_dm(b.reactant, i, j, k) = dm;
         total += dm;
       },
       burned);
   return burned;
-}
-
-/// Volume fractions after the reaction (Step 4, E17): Vt = sum_r rho_r V v_r,
-/// theta_r = max((theta_r Vt + dV_r)/Vt, 1e-100), ftheta_r = theta_r kappa_r / SK
-/// with SK = sum theta_r kappa_r, on `cells` (extra cells included).
-inline void volume_fraction_after_reaction(const IndexBox& cells, double cell_volume, int materials,
-                                           const ConstField4& rho, const ConstField4& sp_vol,
-                                           const ConstField4& kappa, const ConstField4& dV,
-                                           const Field4& vol_frac, const Field3& sum_kappa) {
-  Kokkos::parallel_for(
-      "mpmice::volume_fraction_after_reaction", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double vt = 0;
-        for (int m = 0; m < materials; ++m) vt += rho(m, i, j, k) * cell_volume * sp_vol(m, i, j, k);
-        double sk = 0;
-        for (int m = 0; m < materials; ++m) {
-          const double theta = (vol_frac(m, i, j, k) * vt + dV(m, i, j, k)) / vt;
-          vol_frac(m, i, j, k) = theta > 1e-100 ? theta : 1e-100;
-          sk += vol_frac(m, i, j, k) * kappa(m, i, j, k);
-        }
-        sum_kappa(i, j, k) = sk;
-      });
 }
 
 }  // namespace mpmice

@@ -1,0 +1,119 @@
+#pragma once
+/// \file particle_burn.hpp
+/// \brief The reaction's transfer (E46) done on the particles: the reactant's particles
+///        in a burning cell lose the mass Simple Burn decided (E45), and the product gas
+///        gains, in that cell, exactly what they lose - mass, momentum, internal energy -
+///        plus the heat of reaction. Burned-out particles are then removed (Step 24).
+///
+/// Why on the particles and not on the cells: the solid's cell mass, momentum and energy
+/// are sums over its particles (E12, E13, E27). Taking dm from the particles before they
+/// are interpolated keeps those sums, and hence the exact non-reacting balance of
+/// (E27)-(E35), unchanged; the reactant needs no cell source, and every kilogram the gas
+/// gains is one a particle lost (docs/design.md, "Reactions").
+#include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/simple_burn.hpp>
+
+namespace mpmice {
+
+/// What the product gains per cell (slot `product`): mass (kg), momentum (kg m/s),
+/// internal energy including the heat of reaction (J).
+struct ProductSources {
+  Field4 mass;
+  VectorField4 momentum;
+  Field4 energy;
+};
+
+/// Totals of one call of `burn_particles` on this rank.
+struct BurnTotals {
+  double mass = 0;      ///< kg lost by the particles = gained by the product
+  double chemical = 0;  ///< J of heat of reaction released, mass * dh
+};
+
+/// (E46) on the particles of the reactant `burn.reactant`: with M_c the mass of its
+/// particles in cell c and dm_c = `burn_dm`(reactant, c), every particle in c loses the
+/// fraction f = min(dm_c / M_c, 1) of its mass and volume (f within 1e-12 of 1 is 1: the
+/// particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
+/// momentum m_l v_p and internal energy m_l (c_v,s T_p + dh), added into `src` (zeroed
+/// by the caller). `cell_mass` is scratch of the patch's cell extent. Particle and cell
+/// indices: a particle at x is in cell floor((x - grid.lower) / h).
+inline BurnTotals burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
+                                 const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
+                                 const ProductSources& src) {
+  BurnTotals totals;
+  if (count == 0) return totals;
+  const SimpleBurn b = burn;
+  const ProductSources out = src;
+  auto cell_of = KOKKOS_LAMBDA(long p, int c[3]) {
+    for (int d = 0; d < 3; ++d)
+      c[d] = int(math::floor((data(p, column(ParticleField::x) + d) - grid.lower[d]) * grid.inv_h[d]));
+  };
+  Kokkos::deep_copy(cell_mass, 0.0);
+  Kokkos::parallel_for(
+      "mpmice::burn_cell_mass", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+        int c[3];
+        cell_of(p, c);
+        Kokkos::atomic_add(&cell_mass(c[0], c[1], c[2]), data(p, column(ParticleField::mass)));
+      });
+  double lost_mass = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::burn_particles", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, double& lost_sum) {
+        int c[3];
+        cell_of(p, c);
+        const double dm = burn_dm(b.reactant, c[0], c[1], c[2]);
+        const double M = cell_mass(c[0], c[1], c[2]);
+        if (!(dm > 0) || !(M > 0)) return;
+        double f = dm / M;
+        const double m = data(p, column(ParticleField::mass));
+        double lost = f * m, kept = m - lost;
+        if (f >= 1.0 - 1e-12) {
+          f = 1.0;
+          lost = m;
+          kept = 0.0;
+        }
+        data(p, column(ParticleField::mass)) = kept;
+        data(p, column(ParticleField::volume)) *= 1.0 - f;
+        const int g = b.product;
+        Kokkos::atomic_add(&out.mass(g, c[0], c[1], c[2]), lost);
+        for (int d = 0; d < 3; ++d)
+          Kokkos::atomic_add(&out.momentum[d](g, c[0], c[1], c[2]), lost * data(p, column(ParticleField::vx) + d));
+        Kokkos::atomic_add(&out.energy(g, c[0], c[1], c[2]),
+                           lost * (reactant_cv * data(p, column(ParticleField::temperature)) + b.enthalpy));
+        lost_sum += lost;
+      },
+      lost_mass);
+  totals.mass = lost_mass;
+  totals.chemical = lost_mass * burn.enthalpy;
+  return totals;
+}
+
+/// Removes the particles whose mass is not positive (burned out), keeping the order of
+/// the others. Returns how many were removed.
+inline long remove_massless_particles(ParticleSet& particles) {
+  const long n = long(particles.size());
+  const ParticleData data = particles.data();
+  long alive = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::count_massive", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(long p, long& a) { a += data(p, column(ParticleField::mass)) > 0 ? 1 : 0; }, alive);
+  if (alive == n) return 0;
+  ParticleSet kept(particles.label(), std::size_t(alive));
+  kept.resize(std::size_t(alive));
+  const ParticleData out = kept.data();
+  const ParticleIds id_in = particles.id(), id_out = kept.id();
+  const int ncomp = particle_field_count;
+  Kokkos::parallel_scan(
+      "mpmice::compact_massive", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(long p, long& slot, bool final) {
+        if (!(data(p, column(ParticleField::mass)) > 0)) return;
+        if (final) {
+          for (int c = 0; c < ncomp; ++c) out(slot, c) = data(p, c);
+          id_out(slot) = id_in(p);
+        }
+        ++slot;
+      });
+  particles = std::move(kept);
+  return n - alive;
+}
+
+}  // namespace mpmice
