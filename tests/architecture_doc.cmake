@@ -1,7 +1,7 @@
 # Fails if a step the driver runs (for a fluid, a solid and a coupled problem) is not
 # named in docs/architecture.md. -DMPMICE=<exe> -DSOURCE_DIR=<repo>
 file(READ "${SOURCE_DIR}/docs/architecture.md" doc)
-foreach(problem sod.yaml bar.yaml piston.yaml)
+foreach(problem sod.yaml bar.yaml piston.yaml burn_box.yaml)
   execute_process(COMMAND ${MPMICE} ${SOURCE_DIR}/problems/${problem} --steps
                   RESULT_VARIABLE rc OUTPUT_VARIABLE table ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
