@@ -175,9 +175,9 @@ void Cycle::add_burn_step() {
         long burned_out = 0;
         for (const SimpleBurn& b : m_pb.reactions) {
           ParticleSet& ps = m_pb.particles[b.reactant_slot];
-          chemical += burn_particles(grid, long(ps.size()), ps.data(), m_pb.materials.eos[b.reactant].cv, b,
-                                     ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src)
-                          .chemical;
+          chemical += b.enthalpy * burn_particles(grid, long(ps.size()), ps.data(),
+                                                  m_pb.materials.eos[b.reactant].cv, b,
+                                                  ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src);
           burned_out += remove_massless_particles(ps);
         }
         MPI_Comm comm = m_pb.decomposition->comm();
@@ -478,14 +478,14 @@ void Cycle::add_lagrangian_steps() {
   if (solids)
     solid_reads = cat<FieldRead>({{{"mass_NC", 1}, {"temp_NC", 1}, {"NC_CCweight", 1}}, vec("vel_star_NC", 1)});
   const bool reacting = !pb.reactions.empty();
+  Reads source_reads;
   if (reacting)
-    solid_reads = cat<FieldRead>({solid_reads, {{"reaction_mass_CC", 0}, {"reaction_eng_CC", 0}},
-                                  vec("reaction_mom_CC", 0)});
+    source_reads = cat<FieldRead>({{{"reaction_mass_CC", 0}, {"reaction_eng_CC", 0}}, vec("reaction_mom_CC", 0)});
   // Step 16 (E29)
   m_steps.push_back(Step{
       "lagrangian_values",
       cat<FieldRead>({{{"rho_CC", 0}, {"temp_CC", 0}, {"int_eng_source_CC", 0}}, vec("vel_CC", 0),
-                      vec("mom_source_CC", 0), solid_reads}),
+                      vec("mom_source_CC", 0), solid_reads, source_reads}),
       cat<FieldWrite>({{{"mass_L_CC"}, {"int_eng_L_CC"}}, vec_out("mom_L_CC")}),
       [=](const StepContext& ctx) {
         const auto mass = ctx.write<Field4>("mass_L_CC");

@@ -23,24 +23,18 @@ struct ProductSources {
   Field4 energy;
 };
 
-/// Totals of one call of `burn_particles` on this rank.
-struct BurnTotals {
-  double mass = 0;      ///< kg lost by the particles = gained by the product
-  double chemical = 0;  ///< J of heat of reaction released, mass * dh
-};
-
 /// (E46) on the particles of the reactant `burn.reactant`: with M_c the mass of its
 /// particles in cell c and dm_c = `burn_dm`(reactant, c), every particle in c loses the
 /// fraction f = min(dm_c / M_c, 1) of its mass and volume (f within 1e-12 of 1 is 1: the
 /// particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
 /// momentum m_l v_p and internal energy m_l (c_v,s T_p + dh), added into `src` (zeroed
 /// by the caller). `cell_mass` is scratch of the patch's cell extent. Particle and cell
-/// indices: a particle at x is in cell floor((x - grid.lower) / h).
-inline BurnTotals burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
+/// indices: a particle at x is in cell floor((x - grid.lower) / h). Returns the mass the
+/// particles lost on this rank (kg; times dh: the heat of reaction released).
+inline double burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
                                  const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
                                  const ProductSources& src) {
-  BurnTotals totals;
-  if (count == 0) return totals;
+  if (count == 0) return 0.0;
   const SimpleBurn b = burn;
   const ProductSources out = src;
   auto cell_of = KOKKOS_LAMBDA(long p, int c[3]) {
@@ -82,9 +76,7 @@ inline BurnTotals burn_particles(const NodeGrid& grid, long count, const Particl
         lost_sum += lost;
       },
       lost_mass);
-  totals.mass = lost_mass;
-  totals.chemical = lost_mass * burn.enthalpy;
-  return totals;
+  return lost_mass;
 }
 
 /// Removes the particles whose mass is not positive (burned out), keeping the order of
@@ -97,22 +89,15 @@ inline long remove_massless_particles(ParticleSet& particles) {
       "mpmice::count_massive", Kokkos::RangePolicy<ExecSpace>(0, n),
       KOKKOS_LAMBDA(long p, long& a) { a += data(p, column(ParticleField::mass)) > 0 ? 1 : 0; }, alive);
   if (alive == n) return 0;
-  ParticleSet kept(particles.label(), std::size_t(alive));
-  kept.resize(std::size_t(alive));
-  const ParticleData out = kept.data();
-  const ParticleIds id_in = particles.id(), id_out = kept.id();
-  const int ncomp = particle_field_count;
+  Kokkos::View<long*, MemSpace> rows("mpmice::massive_rows", alive);
   Kokkos::parallel_scan(
-      "mpmice::compact_massive", Kokkos::RangePolicy<ExecSpace>(0, n),
+      "mpmice::massive_rows", Kokkos::RangePolicy<ExecSpace>(0, n),
       KOKKOS_LAMBDA(long p, long& slot, bool final) {
         if (!(data(p, column(ParticleField::mass)) > 0)) return;
-        if (final) {
-          for (int c = 0; c < ncomp; ++c) out(slot, c) = data(p, c);
-          id_out(slot) = id_in(p);
-        }
+        if (final) rows(slot) = p;
         ++slot;
       });
-  particles = std::move(kept);
+  particles = gather_particles(particles, rows, alive);
   return n - alive;
 }
 

@@ -29,19 +29,7 @@ inline void sort_particles_by_cell(const Patch& patch, ParticleSet& particles) {
   using Comp = Kokkos::BinOp1D<Kokkos::View<int*, MemSpace>>;
   Kokkos::BinSort<Kokkos::View<int*, MemSpace>, Comp> sorter(key, Comp(ncell, 0, ncell), /*sort_within_bins=*/false);
   sorter.create_permute_vector();
-  const auto perm = sorter.get_permute_vector();
-  ParticleSet sorted(particles.label(), std::size_t(n));
-  sorted.resize(std::size_t(n));
-  const ParticleData out = sorted.data();
-  const ParticleIds id_in = particles.id(), id_out = sorted.id();
-  const int ncomp = particle_field_count;
-  Kokkos::parallel_for(
-      "mpmice::sort_gather", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long q) {
-        const long p = perm(q);
-        for (int c = 0; c < ncomp; ++c) out(q, c) = data(p, c);
-        id_out(q) = id_in(p);
-      });
-  particles = std::move(sorted);
+  particles = gather_particles(particles, sorter.get_permute_vector(), n);
 }
 
 }  // namespace mpmice

@@ -88,4 +88,22 @@ class ParticleSet {
   std::size_t m_size = 0;
 };
 
+/// A new set holding, in row q, every component and the id of row rows(q) of `from`,
+/// for q < n: the one gather behind sorting and removing particles.
+template <class Rows>
+ParticleSet gather_particles(const ParticleSet& from, const Rows& rows, long n) {
+  ParticleSet out(from.label(), std::size_t(n));
+  out.resize(std::size_t(n));
+  const ParticleData src = from.data(), dst = out.data();
+  const ParticleIds id_in = from.id(), id_out = out.id();
+  const int ncomp = particle_field_count;
+  Kokkos::parallel_for(
+      "mpmice::gather_particles", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long q) {
+        const long p = rows(q);
+        for (int c = 0; c < ncomp; ++c) dst(q, c) = src(p, c);
+        id_out(q) = id_in(p);
+      });
+  return out;
+}
+
 }  // namespace mpmice
