@@ -344,7 +344,11 @@ void Cycle::add_pressure_steps() {
   // Step 7 (E20, with Adv[theta] of section 6)
   const bool reacting = !pb.reactions.empty();
   Reads mass_source_read;
-  if (reacting) mass_source_read.push_back({"reaction_mass_CC", 0});
+  Writes new_gas_write;
+  if (reacting) {
+    mass_source_read = {{"reaction_mass_CC", 0}, {"reaction_eng_CC", 0}};
+    new_gas_write.push_back({"reaction_sp_vol_CC"});
+  }
   m_steps.push_back(Step{
       "pressure_update",
       cat<FieldRead>({mass_source_read,
@@ -354,7 +358,8 @@ void Cycle::add_pressure_steps() {
                        {"press_equil_CC", 0},
                        {"rho_CC", 0}},
                       vec("vel_FCME", 1)}),
-      {{"adv_vol_frac_CC"}, {"delP_Dilatate"}, {"delP_MassX"}, {"press_CC_new"}, {"sum_rho_CC"}},
+      cat<FieldWrite>({{{"adv_vol_frac_CC"}, {"delP_Dilatate"}, {"delP_MassX"}, {"press_CC_new"}, {"sum_rho_CC"}},
+                       new_gas_write}),
       [=, &dt](const StepContext& ctx) {
         const auto U = read_vec(ctx, "vel_FCME");
         const double outflux = max_outflux_fraction(owned, h, dt, n, U);
@@ -367,8 +372,16 @@ void Cycle::add_pressure_steps() {
           advection_change(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), adv);
         }
         const auto press = ctx.write<Field3>("press_CC_new");
-        const ConstField4 mass_source = reacting ? ConstField4(ctx.read<Field4>("reaction_mass_CC")) : ConstField4();
-        pressure_update(owned, V, n, adv, mass_source, ctx.read<Field4>("sp_vol_equil_CC"),
+        // dP_mx (E20) with the new gas's own specific volume (new_gas_specific_volume).
+        ConstField4 mass_source, source_sp_vol = ctx.read<Field4>("sp_vol_equil_CC");
+        if (reacting) {
+          mass_source = ctx.read<Field4>("reaction_mass_CC");
+          const Field4 v_new = ctx.write<Field4>("reaction_sp_vol_CC");
+          new_gas_specific_volume(owned, mats, mass_source, ctx.read<Field4>("reaction_eng_CC"),
+                                  ctx.read<Field3>("press_equil_CC"), v_new);
+          source_sp_vol = v_new;
+        }
+        pressure_update(owned, V, n, adv, mass_source, source_sp_vol,
                         ctx.read<Field3>("sumKappa_CC"), ctx.read<Field3>("press_equil_CC"),
                         ctx.write<Field3>("delP_Dilatate"), ctx.write<Field3>("delP_MassX"), press);
         fill_extra_cells(press, p, bc.pressure, -1);
@@ -395,7 +408,8 @@ void Cycle::add_pressure_steps() {
                        {"TMV_CC", 0},
                        {"kappa_CC", 0},
                        {"press_CC_new", 0},
-                       {"delP_Dilatate", 0}}}),
+                       {"delP_Dilatate", 0}},
+                      reacting ? Reads{{"reaction_mass_CC", 0}, {"delP_MassX", 0}} : Reads{}}),
       cat<FieldWrite>({vec_out("mom_source_CC"), {{"int_eng_source_CC"}}}),
       [=, &dt](const StepContext& ctx) {
         const auto c = components("press_FC");
@@ -406,6 +420,11 @@ void Cycle::add_pressure_steps() {
         energy_source(owned, n, ice_on, ctx.read<Field3>("TMV_CC"), ctx.read<Field4>("vol_frac_CC"),
                       ctx.read<Field4>("kappa_CC"), ctx.read<Field3>("press_CC_new"),
                       ctx.read<Field3>("delP_Dilatate"), ctx.write<Field4>("int_eng_source_CC"));
+        if (reacting)
+          mass_exchange_work(owned, n, ice_on, ctx.read<Field3>("TMV_CC"), ctx.read<Field4>("vol_frac_CC"),
+                             ctx.read<Field4>("kappa_CC"), ctx.read<Field3>("press_CC_new"),
+                             ctx.read<Field3>("delP_MassX"), ctx.read<Field4>("reaction_mass_CC"),
+                             ctx.write<Field4>("int_eng_source_CC"));
       }});
 
 }
@@ -478,6 +497,8 @@ void Cycle::add_lagrangian_steps() {
   if (solids)
     solid_reads = cat<FieldRead>({{{"mass_NC", 1}, {"temp_NC", 1}, {"NC_CCweight", 1}}, vec("vel_star_NC", 1)});
   const bool reacting = !pb.reactions.empty();
+  // With reactions the exchange's and (E32)'s temperature before the step is the mixed one.
+  const std::string temp_before = reacting ? "temp_mixed_CC" : "temp_CC";
   Reads source_reads;
   if (reacting)
     source_reads = cat<FieldRead>({{{"reaction_mass_CC", 0}, {"reaction_eng_CC", 0}}, vec("reaction_mom_CC", 0)});
@@ -486,7 +507,8 @@ void Cycle::add_lagrangian_steps() {
       "lagrangian_values",
       cat<FieldRead>({{{"rho_CC", 0}, {"temp_CC", 0}, {"int_eng_source_CC", 0}}, vec("vel_CC", 0),
                       vec("mom_source_CC", 0), solid_reads, source_reads}),
-      cat<FieldWrite>({{{"mass_L_CC"}, {"int_eng_L_CC"}}, vec_out("mom_L_CC")}),
+      cat<FieldWrite>({{{"mass_L_CC"}, {"int_eng_L_CC"}}, vec_out("mom_L_CC"),
+                       reacting ? Writes{{"temp_mixed_CC"}} : Writes{}}),
       [=](const StepContext& ctx) {
         const auto mass = ctx.write<Field4>("mass_L_CC");
         lagrangian_mass(with_extra, V, n, ctx.read<Field4>("rho_CC"), mass);
@@ -504,9 +526,10 @@ void Cycle::add_lagrangian_steps() {
         }
         // (E30): what the products gained from the particles this step.
         if (reacting)
-          add_product_sources(owned, n, ctx.read<Field4>("reaction_mass_CC"), read_vec(ctx, "reaction_mom_CC"),
-                              ctx.read<Field4>("reaction_eng_CC"), mass, write_vec(ctx, "mom_L_CC"),
-                              ctx.write<Field4>("int_eng_L_CC"));
+          add_product_sources(owned, mats, ctx.read<Field4>("reaction_mass_CC"), read_vec(ctx, "reaction_mom_CC"),
+                              ctx.read<Field4>("reaction_eng_CC"), ctx.read<Field4>("temp_CC"), mass,
+                              write_vec(ctx, "mom_L_CC"), ctx.write<Field4>("int_eng_L_CC"),
+                              ctx.write<Field4>("temp_mixed_CC"));
       }});
 
   // Step 17 (E31)
@@ -516,7 +539,7 @@ void Cycle::add_lagrangian_steps() {
                        {"int_eng_L_CC", 0},
                        {"sp_vol_equil_CC", 0},
                        {"vol_frac_CC", 0},
-                       {"temp_CC", 0}},
+                       {temp_before, 0}},
                       vec("mom_L_CC", 0)}),
       cat<FieldWrite>({vec_out("vel_ME_CC"), {{"temp_ME_CC"}, {"Tdot_CC"}}}),
       [=, &dt](const StepContext& ctx) {
@@ -524,7 +547,7 @@ void Cycle::add_lagrangian_steps() {
         const auto temp = ctx.write<Field4>("temp_ME_CC");
         exchange(owned, dt, mats, ctx.read<Field4>("mass_L_CC"), read_vec(ctx, "mom_L_CC"),
                  ctx.read<Field4>("int_eng_L_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
-                 ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>("temp_CC"), vel, temp,
+                 ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>(temp_before), vel, temp,
                  ctx.write<Field4>("Tdot_CC"));
         for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], p, bc.velocity, d);
         fill_extra_cells(temp, p, bc.temperature, -1);
@@ -533,21 +556,28 @@ void Cycle::add_lagrangian_steps() {
   // Step 18 (E32)
   m_steps.push_back(Step{
       "lagrangian_specific_volume",
-      {{"rho_CC", 0},
-       {"sp_vol_equil_CC", 0},
-       {"vol_frac_CC", 0},
-       {"kappa_CC", 0},
-       {"sumKappa_CC", 0},
-       {"delP_Dilatate", 0},
-       {"temp_CC", 0},
-       {"Tdot_CC", 0}},
+      cat<FieldRead>({{{"rho_CC", 0},
+                       {"mass_L_CC", 0},
+                       {"sp_vol_equil_CC", 0},
+                       {"vol_frac_CC", 0},
+                       {"kappa_CC", 0},
+                       {"sumKappa_CC", 0},
+                       {"delP_Dilatate", 0},
+                       {temp_before, 0},
+                       {"Tdot_CC", 0},
+                       {"delP_MassX", 0}},
+                      reacting ? Reads{{"reaction_mass_CC", 0}, {"reaction_sp_vol_CC", 0}} : Reads{}}),
       {{"sp_vol_L_CC"}},
       [=, &dt](const StepContext& ctx) {
         const auto out = ctx.write<Field4>("sp_vol_L_CC");
+        const ConstField4 mass_source = reacting ? ConstField4(ctx.read<Field4>("reaction_mass_CC")) : ConstField4();
+        const ConstField4 source_sp_vol = reacting ? ConstField4(ctx.read<Field4>("reaction_sp_vol_CC")) : ConstField4();
         const long bad = lagrangian_specific_volume(
-            owned, V, dt, clamp, mats, ctx.read<Field4>("rho_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
+            owned, V, dt, clamp, mats, ctx.read<Field4>("rho_CC"), ctx.read<Field4>("mass_L_CC"),
+            ctx.read<Field4>("sp_vol_equil_CC"),
             ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>("kappa_CC"), ctx.read<Field3>("sumKappa_CC"),
-            ctx.read<Field3>("delP_Dilatate"), ctx.read<Field4>("temp_CC"), ctx.read<Field4>("Tdot_CC"), out);
+            ctx.read<Field3>("delP_Dilatate"), ctx.read<Field4>(temp_before), ctx.read<Field4>("Tdot_CC"),
+            mass_source, source_sp_vol, ctx.read<Field3>("delP_MassX"), out);
         if (global_sum(comm, bad) > 0) throw RedoStep("a Lagrangian specific volume is not positive (E32)");
         specific_volume_from_density(with_extra, owned, n, ctx.read<Field4>("vol_frac_CC"),
                                      ctx.read<Field4>("rho_CC"), out);

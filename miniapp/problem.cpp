@@ -171,6 +171,8 @@ void register_fields(Problem& pb) {
     // Step 4: the mass each reactant is to burn next step (checkpointed: it carries
     // the reaction from one step to the next), and what the product gains this step.
     cell4("burn_dm_CC");
+    cell4("reaction_sp_vol_CC");
+    cell4("temp_mixed_CC");
     cell4("reaction_mass_CC");
     vec4("reaction_mom_CC");
     cell4("reaction_eng_CC");

@@ -8,8 +8,9 @@ Mean radius: the mean of sqrt(x^2 + y^2) over the copper particles of the side w
 (|z| below the cavity's half-length). Prints the table; draws the mean radius and the gap
 pressure against time if OUT.png is given. With --check, exits 1 unless every mass in
 history.csv is finite and not negative, the products (at TINY_RHO at the start) gained
-mass, and the first output with product gas has it only within two cells of the
-copper/PBX interface.
+mass, the first output with product gas has it only within two cells of the
+copper/PBX interface, and, from the first output where the gap pressure is twice its
+initial value ("pressurised"), the mean radius never decreases.
 """
 import csv
 import glob
@@ -76,12 +77,12 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-        ax[0].plot(times * 1e3, (radii - radii[0]) * 1e6, "o-", ms=3)
+        ax[0].plot(times * 1e3, (radii - radii[0]) * 1e3, "o-", ms=3)
         ax[0].set_xlabel("time [ms]")
-        ax[0].set_ylabel("mean radius change of the side wall [um]")
+        ax[0].set_ylabel("mean radius change of the side wall [mm]")
         ax[0].set_title("copper case")
         tg = np.array(sorted(gap))
-        ax[1].plot(tg * 1e3, [gap[t] / 1e6 for t in tg])
+        ax[1].semilogy(tg * 1e3, [gap[t] / 1e6 for t in tg])
         ax[1].set_xlabel("time [ms]")
         ax[1].set_ylabel("pressure at probe 'gap' [MPa]")
         ax[1].set_title("gas between case and PBX")
@@ -89,11 +90,19 @@ def main():
         fig.savefig(args[1], dpi=110)
         print("wrote", args[1])
 
+    p_gap = np.array([gap[min(gap, key=lambda s: abs(s - t))] for t in times])
+    pressurised = np.nonzero(p_gap >= 2 * p_gap[0])[0]
+    growing = len(pressurised) > 1 and bool(np.all(np.diff(radii[pressurised[0]:]) >= 0))
+    if len(pressurised):
+        print("pressurised (gap pressure >= 2x initial) from t = %.3e s; mean radius %s since"
+              % (times[pressurised[0]], "never decreased" if growing else "DECREASED"))
+
     if check:
         near = first_products is not None and first_products[1] <= 2.0
-        passed = ok_masses and products1 > 1e3 * max(products0, 1e-30) and near
-        print("check: %s (masses finite and >= 0: %s; products gained mass: %s; burn started at the interface: %s)"
-              % ("passed" if passed else "FAILED", ok_masses, products1 > 1e3 * max(products0, 1e-30), near))
+        gained = products1 > 1e3 * max(products0, 1e-30)
+        passed = ok_masses and gained and near and growing
+        print("check: %s (masses finite and >= 0: %s; products gained mass: %s; burn started at the interface: %s; "
+              "radius grows once pressurised: %s)" % ("passed" if passed else "FAILED", ok_masses, gained, near, growing))
         sys.exit(0 if passed else 1)
 
 

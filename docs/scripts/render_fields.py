@@ -1,8 +1,9 @@
 """Draws one field output of mpmice (fields_NNNNNN.h5) the way ParaView would show
 it: a cell field on the mid-z slice with each solid's particles on top.
 
-Usage: /usr/bin/python3 docs/scripts/render_fields.py FILE.h5 OUT.png [CELL_FIELD]
-CELL_FIELD defaults to `pressure` (any dataset under /cells)."""
+Usage: /usr/bin/python3 docs/scripts/render_fields.py FILE.h5 OUT.png [CELL_FIELD [Z_INDEX]]
+CELL_FIELD defaults to `pressure` (any dataset under /cells); Z_INDEX, the slice's cell
+layer, to the middle one."""
 import sys
 
 import h5py
@@ -26,7 +27,8 @@ def main():
             data = h5["cells"][field][...]  # (z, y, x)
             nz, ny, nx = data.shape[:3]
             extent = [origin[2], origin[2] + nx * spacing[2], origin[1], origin[1] + ny * spacing[1]]
-            im = ax.imshow(data[nz // 2], origin="lower", extent=extent, cmap="viridis")
+            layer = int(sys.argv[4]) if len(sys.argv) > 4 else nz // 2
+            im = ax.imshow(data[layer], origin="lower", extent=extent, cmap="viridis")
             fig.colorbar(im, ax=ax, label=field)
         if "particles" in h5:
             for name, group in h5["particles"].items():

@@ -106,13 +106,14 @@ TEST(MpmIce, PistonFollowsTheAdiabat) {
   EXPECT_LE(mass_drift, 1e-11);
 }
 
-// Burn conservation (problems/burn_box.yaml, 2000 steps, about 5% of the PBX burns):
+// Burn conservation (problems/burn_box.yaml, 300 steps, 1.3% of the PBX burns):
 // a closed periodic box, so total mass must stay to round-off (1e-12 relative: every
-// kilogram a particle loses its cell's gas gains, 2000 steps of sums of ~400 terms),
+// kilogram a particle loses its cell's gas gains, 300 steps of sums of ~400 terms),
 // total momentum (zero at the start) within 1e-10 of the scale sqrt(M E) a momentum
 // error would have, and the energy balance E_total + sum m c_v T (particles) - sum dm dh
-// within 1% of its start (the bound; ICE's internal-energy form and the
-// linearised pressure of the new gas (E20) leave 0.35% here).
+// within 1% of its start (the bound; 0.82% here). The balance loses about a
+// fifth of the heat released (18% here; docs/design.md "Reactions"): the second bound,
+// 25% of the heat released, guards that figure from getting worse.
 TEST(MpmIce, BurnConservesMassMomentumEnergy) {
   const std::string dir = scratch_dir("burn_box");
   run_problem("burn_box.yaml", {}, MPI_COMM_SELF, dir);
@@ -140,8 +141,9 @@ TEST(MpmIce, BurnConservesMassMomentumEnergy) {
               "momentum %.2e (of sqrt(M E)), energy balance %.3f%% (%.2f%% of the heat released)\n",
               100 * burned, h.rows.back()[chemical], worst_mass, worst_momentum, 100 * worst_energy,
               100 * worst_energy * balance(first) / h.rows.back()[chemical]);
-  EXPECT_GE(burned, 0.02);  // a burn, not a box at rest
+  EXPECT_GE(burned, 0.01);  // a burn, not a box at rest
   EXPECT_LE(worst_mass, 1e-12);
   EXPECT_LE(worst_momentum, 1e-10);
   EXPECT_LE(worst_energy, 0.01);
+  EXPECT_LE(worst_energy * balance(first), 0.25 * h.rows.back()[chemical]);
 }

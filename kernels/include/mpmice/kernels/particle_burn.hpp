@@ -10,6 +10,7 @@
 /// are interpolated keeps those sums, and hence the exact non-reacting balance of
 /// (E27)-(E35), unchanged; the reactant needs no cell source, and every kilogram the gas
 /// gains is one a particle lost (docs/design.md, "Reactions").
+#include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 
@@ -77,6 +78,29 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
       },
       lost_mass);
   return lost_mass;
+}
+
+/// The specific volume the new gas takes where it is created (m^3/kg; 0 where a material
+/// gained no mass): at the cell's pressure p_eq and its own temperature
+/// T_new = dE / (dm c_v), v = 1 / rhoM(p_eq, T_new). The gas leaves a burning surface at
+/// about the surrounding pressure (a deflagration is nearly isobaric); creating it at
+/// a smaller volume would compress it for free and let it lose that energy when it
+/// expands. Used for dP_mx (E20) and the new volume in (E32).
+inline void new_gas_specific_volume(const IndexBox& cells, const MaterialTable& mats, const ConstField4& mass_source,
+                                    const ConstField4& energy_source, const ConstField3& press_eq,
+                                    const Field4& sp_vol_new) {
+  Kokkos::parallel_for(
+      "mpmice::new_gas_specific_volume", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int m = 0; m < mats.count; ++m) {
+          const double dm = mass_source(m, i, j, k);
+          double v = 0;
+          if (dm > 0) {
+            const double t_new = energy_source(m, i, j, k) / (dm * mats.eos[m].cv);
+            v = 1.0 / eos_density(mats.eos[m], press_eq(i, j, k), t_new);
+          }
+          sp_vol_new(m, i, j, k) = v;
+        }
+      });
 }
 
 /// Removes the particles whose mass is not positive (burned out), keeping the order of

@@ -48,4 +48,33 @@ inline void energy_source(const IndexBox& cells, int materials,
       });
 }
 
+/// With a reaction (departure from P8, docs/design.md "Reactions"): the new gas's
+/// volume dm v compresses the cell by dP_mx (E20, E32). Each fluid present
+/// (`work_on`, theta > 1e-6) gains that compression work, TMV theta_r kappa_r p^{n+1}
+/// dP_mx, and the materials that gained mass (mass_source > 0) pay it, in proportion to
+/// their dm: the new gas is created at the cell's pressure (isobaric, its energy
+/// dm (c_v,s T_s + dh) - p dm v), and the cell's total energy is unchanged.
+inline void mass_exchange_work(const IndexBox& cells, int materials, const Kokkos::Array<int, max_materials> work_on,
+                               const ConstField3& tmv, const ConstField4& vol_frac, const ConstField4& kappa,
+                               const ConstField3& press, const ConstField3& del_p_mass,
+                               const ConstField4& mass_source, const Field4& int_eng_source) {
+  Kokkos::parallel_for(
+      "mpmice::mass_exchange_work", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double gained = 0;
+        for (int m = 0; m < materials; ++m) gained += mass_source(m, i, j, k) > 0 ? mass_source(m, i, j, k) : 0.0;
+        if (!(gained > 0)) return;
+        const double pdp = tmv(i, j, k) * press(i, j, k) * del_p_mass(i, j, k);
+        double work = 0;
+        for (int m = 0; m < materials; ++m) {
+          const double theta = vol_frac(m, i, j, k);
+          if (!work_on[m] || !(theta > 1e-6)) continue;
+          const double w = pdp * theta * kappa(m, i, j, k);
+          int_eng_source(m, i, j, k) += w;
+          work += w;
+        }
+        for (int m = 0; m < materials; ++m)
+          if (mass_source(m, i, j, k) > 0) int_eng_source(m, i, j, k) -= work * mass_source(m, i, j, k) / gained;
+      });
+}
+
 }  // namespace mpmice

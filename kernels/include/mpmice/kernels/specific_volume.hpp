@@ -9,15 +9,22 @@
 namespace mpmice {
 
 /// VL_r = rho_r V v_r - theta_r kappa_r V dP_dil + dt V (theta_r alpha_r Tdot_r -
-/// ftheta_r X), X = sum_s theta_s alpha_s Tdot_s (E32); writes sp_vol_L = VL/mL on
-/// `cells`. With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the
+/// ftheta_r X), X = sum_s theta_s alpha_s Tdot_s (E32), with a reaction's mass sources
+/// dm_r (`mass_source`, may be empty) also + dm_r v_new,r - theta_r kappa_r V dP_mx
+/// (`source_sp_vol`: the new gas's specific volume, new_gas_specific_volume); writes sp_vol_L = VL/mL on
+/// `cells`, mL the Lagrangian mass (`mass_L`, E29/E30: rho_r V plus a reaction's
+/// product mass; advection multiplies sp_vol_L by it again, so dividing by rho_r V
+/// instead would scale the volume of a gas that gains mass by (m + dm)/m). With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the
 /// number of cells where some VL_r <= 0 (the step must be redone).
 inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume, double dt, bool clamp,
-                                       const MaterialTable& mats, const ConstField4& rho,
+                                       const MaterialTable& mats, const ConstField4& rho, const ConstField4& mass_L,
                                        const ConstField4& sp_vol, const ConstField4& vol_frac,
                                        const ConstField4& kappa, const ConstField3& sum_kappa,
                                        const ConstField3& del_p_dilatate, const ConstField4& temp,
-                                       const ConstField4& temp_rate, const Field4& sp_vol_L) {
+                                       const ConstField4& temp_rate, const ConstField4& mass_source,
+                                       const ConstField4& source_sp_vol, const ConstField3& del_p_mass,
+                                       const Field4& sp_vol_L) {
+  const bool with_mass = mass_source.data() != nullptr;
   long bad = 0;
   Kokkos::parallel_reduce(
       "mpmice::lagrangian_specific_volume", cells.policy(),
@@ -35,10 +42,15 @@ inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume
           const double mass = rho(r, i, j, k) * cell_volume;
           double vl = mass * sp_vol(r, i, j, k) - theta * kap * cell_volume * dp +
                       dt * cell_volume * (theta * alpha * temp_rate(r, i, j, k) - theta * kap / sk * x);
+          // A reaction's new mass takes dm_r v_new, and every material gives up its share
+          // of that volume by the increment dP_mx it causes (E20): sum_r of both is zero.
+          if (with_mass)
+            vl += mass_source(r, i, j, k) * source_sp_vol(r, i, j, k) -
+                  theta * kap * cell_volume * del_p_mass(i, j, k);
           const double floor = tiny_rho * cell_volume * sp_vol(r, i, j, k);
           if (clamp && vl < floor) vl = floor;
           if (!(vl > 0.0)) ok = false;
-          sp_vol_L(r, i, j, k) = vl / mass;
+          sp_vol_L(r, i, j, k) = vl / mass_L(r, i, j, k);
         }
         if (!ok) ++nbad;
       },
