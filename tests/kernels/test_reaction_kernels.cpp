@@ -1,7 +1,9 @@
 // Simple Burn (E44-E46): the burning area of planar surfaces against geometry, the
 // rate against dt A B (p/p0)^n, the thresholds and the cap at the reactant's mass;
 // the particles' transfer gives the product exactly what the particles lose (mass,
-// momentum, c_v T) plus dm dh, and burned-out particles are removed.
+// momentum, c_v T) plus dm dh, and burned-out particles are removed; the new gas takes
+// its volume at the cell's pressure, (E32) keeps the cell's volume with it, and the
+// compression work of dP_mx is paid by the new gas.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -9,6 +11,8 @@
 
 #include <mpmice/kernels/particle_burn.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
+#include <mpmice/kernels/sources.hpp>
+#include <mpmice/kernels/specific_volume.hpp>
 
 using namespace mpmice;
 
@@ -183,4 +187,98 @@ TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
   auto ids = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
   for (int p = 0; p < 3; ++p) EXPECT_EQ(ids(p), p);
   EXPECT_EQ(remove_massless_particles(ps), 0);
+}
+
+namespace {
+
+// One cell of two ideal gases: air (material 0) and products (material 1, gaining mass).
+struct GasCell {
+  MaterialTable mats;
+  IndexBox cell;
+  static constexpr double V = 1e-9;
+  GasCell() {
+    mats.count = 2;
+    for (int m = 0; m < 2; ++m) {
+      mats.eos[m].type = EosType::ideal_gas;
+      mats.eos[m].gamma = 1.4;
+      mats.eos[m].cv = 716.0;
+    }
+    cell.hi[0] = cell.hi[1] = cell.hi[2] = 1;
+  }
+  static Field4 pair(const char* name, double a, double b) {
+    Field4 f(std::string(name), 2, 1, 1, 1);
+    auto h = Kokkos::create_mirror_view(f);
+    h(0, 0, 0, 0) = a;
+    h(1, 0, 0, 0) = b;
+    Kokkos::deep_copy(f, h);
+    return f;
+  }
+  static Field3 one(const char* name, double v) {
+    Field3 f(std::string(name), 1, 1, 1);
+    Kokkos::deep_copy(f, v);
+    return f;
+  }
+  static double at(const Field4& f, int m) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
+    return h(m, 0, 0, 0);
+  }
+};
+
+}  // namespace
+
+// The new gas at the cell's pressure and its own temperature: v = (gamma - 1) c_v T / p
+// (ideal gas), T = dE / (dm c_v); 0 for a material that gained nothing.
+TEST(ReactionVolume, NewGasAtTheCellPressure) {
+  GasCell c;
+  const double dm = 2e-9, t_new = 3600.0, p = 2.0e6;
+  Field4 v("v", 2, 1, 1, 1);
+  new_gas_specific_volume(c.cell, c.mats, GasCell::pair("dm", 0.0, dm), GasCell::pair("de", 0.0, dm * 716.0 * t_new),
+                          GasCell::one("p", p), v);
+  EXPECT_NEAR(GasCell::at(v, 1), 0.4 * 716.0 * t_new / p, 1e-14);
+  EXPECT_EQ(GasCell::at(v, 0), 0.0);
+}
+
+// (E32) with a mass source: the new gas takes dm v_new, every material gives up
+// theta kappa V dP_mx with dP_mx = dm v_new / (V SK), so the cell's total volume is as
+// without the source; sp_vol_L is the volume per Lagrangian mass (m + dm).
+TEST(ReactionVolume, NewGasVolumeKeepsTheCellVolume) {
+  GasCell c;
+  const double V = GasCell::V, p = 1e6, t = 1000.0;
+  const double v = 0.4 * 716.0 * t / p, kappa = v / (1.4 * p * v);  // kappa = v/c^2 = 1/(gamma p)
+  const double theta[2] = {0.7, 0.3}, dm = 1e-12, v_new = 0.4 * 716.0 * 3000.0 / p;
+  const double sk = (theta[0] + theta[1]) * kappa, dp_mx = dm * v_new / (V * sk);
+  const Field4 rho = GasCell::pair("rho", theta[0] / v, theta[1] / v);
+  const Field4 zero = GasCell::pair("zero", 0.0, 0.0);
+  Field4 out("out", 2, 1, 1, 1);
+  auto run = [&](bool with_source) {
+    const double ml1 = theta[1] / v * V + (with_source ? dm : 0.0);
+    lagrangian_specific_volume(c.cell, V, 1e-7, false, c.mats, rho, GasCell::pair("mL", theta[0] / v * V, ml1),
+                               GasCell::pair("v", v, v), GasCell::pair("theta", theta[0], theta[1]),
+                               GasCell::pair("kappa", kappa, kappa), GasCell::one("sk", sk), GasCell::one("dpd", 0.0),
+                               GasCell::pair("T", t, t), zero, with_source ? GasCell::pair("dm", 0.0, dm) : ConstField4(),
+                               GasCell::pair("vnew", 0.0, v_new), GasCell::one("dpmx", dp_mx), out);
+    return std::array<double, 2>{GasCell::at(out, 0) * theta[0] / v * V, GasCell::at(out, 1) * ml1};
+  };
+  const auto plain = run(false), burning = run(true);
+  // Volumes of 1e-9 m^3; round-off of the sums: 1e-22.
+  EXPECT_NEAR(plain[0] + plain[1], V, 1e-22);
+  EXPECT_NEAR(burning[0] + burning[1], V, 1e-22);
+  EXPECT_GT(burning[1], plain[1]);  // the products grew, the air gave up volume
+  EXPECT_LT(burning[0], plain[0]);
+}
+
+// The compression work of dP_mx: each fluid present gains TMV theta kappa p dP_mx, the
+// material that gained mass pays the sum; the cell's energy source sums to what it was.
+TEST(ReactionVolume, CompressionWorkIsPaidByTheNewGas) {
+  GasCell c;
+  const double p = 1e6, dp_mx = 5e4, kappa = 1.0 / (1.4 * p), tmv = GasCell::V;
+  Field4 w = GasCell::pair("w", 1.5e-3, -2.0e-3);
+  Kokkos::Array<int, max_materials> fluids;
+  for (int m = 0; m < max_materials; ++m) fluids[m] = 1;
+  mass_exchange_work(c.cell, 2, fluids, GasCell::one("tmv", tmv), GasCell::pair("theta", 0.6, 0.4),
+                     GasCell::pair("kappa", kappa, kappa), GasCell::one("p", p), GasCell::one("dpmx", dp_mx),
+                     GasCell::pair("dm", 0.0, 1e-12), w);
+  const double gain_air = tmv * 0.6 * kappa * p * dp_mx;
+  EXPECT_NEAR(GasCell::at(w, 0), 1.5e-3 + gain_air, 1e-18);
+  EXPECT_NEAR(GasCell::at(w, 0) + GasCell::at(w, 1), 1.5e-3 - 2.0e-3, 1e-18);
 }

@@ -11,11 +11,12 @@ namespace mpmice {
 /// VL_r = rho_r V v_r - theta_r kappa_r V dP_dil + dt V (theta_r alpha_r Tdot_r -
 /// ftheta_r X), X = sum_s theta_s alpha_s Tdot_s (E32), with a reaction's mass sources
 /// dm_r (`mass_source`, may be empty) also + dm_r v_new,r - theta_r kappa_r V dP_mx
-/// (`source_sp_vol`: the new gas's specific volume, new_gas_specific_volume); writes sp_vol_L = VL/mL on
-/// `cells`, mL the Lagrangian mass (`mass_L`, E29/E30: rho_r V plus a reaction's
-/// product mass; advection multiplies sp_vol_L by it again, so dividing by rho_r V
-/// instead would scale the volume of a gas that gains mass by (m + dm)/m). With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the
-/// number of cells where some VL_r <= 0 (the step must be redone).
+/// (`source_sp_vol`: the new gas's specific volume, new_gas_specific_volume). Writes
+/// sp_vol_L = VL/mL on `cells`, mL the Lagrangian mass (`mass_L`, E29/E30: rho_r V plus
+/// a reaction's product mass; advection multiplies sp_vol_L by it again, so dividing by
+/// rho_r V instead would scale the volume of a gas that gains mass by (m + dm)/m).
+/// With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the number of
+/// cells where some VL_r <= 0 (the step must be redone).
 inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume, double dt, bool clamp,
                                        const MaterialTable& mats, const ConstField4& rho, const ConstField4& mass_L,
                                        const ConstField4& sp_vol, const ConstField4& vol_frac,
