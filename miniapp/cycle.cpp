@@ -1,6 +1,7 @@
 #include "cycle.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <mpmice/halo/migrate.hpp>
@@ -23,6 +24,7 @@
 #include <mpmice/kernels/internal_force.hpp>
 #include <mpmice/kernels/p2g.hpp>
 #include <mpmice/kernels/particle_sort.hpp>
+#include <mpmice/kernels/particle_totals.hpp>
 #include <mpmice/kernels/stress_update.hpp>
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/kinetic_energy_fix.hpp>
@@ -134,6 +136,15 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
     const double heaviest = global_max(pb.decomposition->comm(),
                                        max_particle_mass(long(pb.particles[s].size()), pb.particles[s].data()));
     m_rigid_mass_quantum.push_back((heaviest > 0 ? heaviest : 1.0) * 0x1p-40);
+    // Every particle mass a multiple of one power of two, so that the scatters' sums and
+    // a burn's transfers are exact whatever their order (quanta.hpp): 2^-41 relative at
+    // most, once. Masses only decrease, by multiples of the same quantum.
+    const double q = quantum_for(heaviest);
+    m_mass_quantum.push_back(q);
+    const auto mass = pb.particles[s].get(ParticleField::mass);
+    Kokkos::parallel_for(
+        "mpmice::mass_on_grid", Kokkos::RangePolicy<ExecSpace>(0, long(pb.particles[s].size())),
+        KOKKOS_LAMBDA(long p) { mass(p) = on_grid(mass(p), q); });
   }
   if (pb.solid_count() > 0) {
     // The first step's limit from the initial particles (stress from F = I: zero).
@@ -152,6 +163,19 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
   if (solids) add_particle_update_steps();
   if (cells) add_advection_steps();
   for (const auto& s : m_steps) m_runner.validate(s);
+}
+
+SumQuanta Cycle::scatter_quanta(int s) const {
+  MPI_Comm comm = m_pb.decomposition->comm();
+  const ParticleSet& ps = m_pb.particles[s];
+  const SumQuanta bound = particle_scatter_bounds(long(ps.size()), ps.data());
+  SumQuanta q;
+  q.mass = m_mass_quantum[s];
+  q.momentum = quantum_for(global_max(comm, bound.momentum));
+  q.heat = quantum_for(global_max(comm, bound.heat));
+  q.volume = quantum_for(global_max(comm, bound.volume));
+  q.external_force = quantum_for(global_max(comm, bound.external_force));
+  return q;
 }
 
 // Step 4's transfer (E46), one step after Step 4 decided it: the reactant's particles lose
@@ -175,9 +199,11 @@ void Cycle::add_burn_step() {
         long burned_out = 0;
         for (const SimpleBurn& b : m_pb.reactions) {
           ParticleSet& ps = m_pb.particles[b.reactant_slot];
-          chemical += b.enthalpy * burn_particles(grid, long(ps.size()), ps.data(),
-                                                  m_pb.materials.eos[b.reactant].cv, b,
-                                                  ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src);
+          const double cv = m_pb.materials.eos[b.reactant].cv;
+          SumQuanta q = scatter_quanta(b.reactant_slot);
+          q.energy = quantum_for(cv * std::ldexp(q.heat, 41) + b.enthalpy * std::ldexp(q.mass, 41));
+          chemical += b.enthalpy * burn_particles(grid, long(ps.size()), ps.data(), cv, b,
+                                                  ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src, q);
           burned_out += remove_massless_particles(ps);
         }
         MPI_Comm comm = m_pb.decomposition->comm();
@@ -203,7 +229,8 @@ void Cycle::add_particle_to_grid_steps() {
                             ctx.write<Field4>("volume_NC"), write_vec(ctx, "fext_NC")};
         for (int s = 0; s < ns; ++s) {
           const ParticleSet& ps = m_pb.particles[s];
-          with_shape(gimp, [&](auto shape) { p2g<decltype(shape)>(grid, long(ps.size()), ps.data(), s, sums); });
+          const SumQuanta q = scatter_quanta(s);
+          with_shape(gimp, [&](auto shape) { p2g<decltype(shape)>(grid, long(ps.size()), ps.data(), s, sums, q); });
         }
       }});
   m_steps.push_back(Step{
@@ -462,8 +489,12 @@ void Cycle::add_force_steps() {
                            const VectorField4 fint = write_vec(ctx, "fint_NC");
                            for (int s = 0; s < ns; ++s) {
                              const ParticleSet& ps = m_pb.particles[s];
+                             SumQuanta q;
+                             q.mass = m_mass_quantum[s];
+                             q.internal_force = quantum_for(global_max(
+                                 m_pb.decomposition->comm(), internal_force_bound(grid, long(ps.size()), ps.data())));
                              with_shape(gimp, [&](auto shape) {
-                               internal_force<decltype(shape)>(grid, long(ps.size()), ps.data(), s, fint);
+                               internal_force<decltype(shape)>(grid, long(ps.size()), ps.data(), s, fint, q);
                              });
                            }
                          }});

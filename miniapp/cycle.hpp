@@ -7,6 +7,7 @@
 
 #include <mpmice/halo/steps.hpp>
 #include <mpmice/kernels/advection.hpp>
+#include <mpmice/kernels/quanta.hpp>
 
 #include "problem.hpp"
 
@@ -53,6 +54,9 @@ class Cycle {
   std::vector<Step> m_steps;
   double m_dt = 0, m_time = 0;
   std::vector<double> m_rigid_mass_quantum;  // per solid: rigid_particle_to_cell's mass unit, kg
+  std::vector<double> m_mass_quantum;  // per solid: the particle masses' grid (quanta.hpp), kg
+  // This step's quanta of solid s's scatters, the same on every rank (quanta.hpp).
+  SumQuanta scatter_quanta(int s) const;
   double m_mpm_dt_limit = 1e300;  // from the last stress update (E58)
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;

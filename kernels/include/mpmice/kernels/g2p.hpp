@@ -42,7 +42,7 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
         }
         double x[3], half[3];
         particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.lower, grid.inv_h, half);
+        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
         double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0;
         Mat3 L = Mat3::zero();
         for (int a = 0; a < Shape::nodes; ++a)

@@ -9,6 +9,7 @@
 #include <Kokkos_ScatterView.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/shape.hpp>
 
 namespace mpmice {
@@ -31,9 +32,11 @@ inline void contribute(Field4 dest, const NodeScatter& scatter) {
 }
 
 /// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
-/// call first resets over the whole patch, ghost nodes included).
+/// call first resets over the whole patch, ghost nodes included). With quanta `q` each
+/// contribution is rounded to them (quanta.hpp: sums independent of their order).
 template <class Shape>
-void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums) {
+void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
+         const SumQuanta& q = SumQuanta()) {
   Kokkos::deep_copy(Kokkos::subview(sums.mass, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
   Kokkos::deep_copy(Kokkos::subview(sums.volume, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
   Field4 zeroed[7] = {sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.fext[0], sums.fext[1], sums.fext[2]};
@@ -45,7 +48,7 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
       "mpmice::p2g", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
         particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.lower, grid.inv_h, half);
+        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
         const double mp = data(p, column(ParticleField::mass));
         const double vp = data(p, column(ParticleField::volume));
         const double px = mp * data(p, column(ParticleField::vx)), py = mp * data(p, column(ParticleField::vy)),
@@ -66,17 +69,20 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
           for (int b = 0; b < Shape::nodes; ++b)
             for (int c = 0; c < Shape::nodes; ++c) {
               const double S = wt.weight(a, b, c);
-              if (S == 0.0) continue;
+              // A node whose share of the mass rounds to zero gets nothing at all, so
+              // that no node has momentum or force without mass (internal_force skips it too).
+              const double ms = on_grid(S * mp, q.mass);
+              if (ms == 0.0) continue;
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              a_mass(m, i, j, k) += S * mp;
-              a_px(m, i, j, k) += S * px;
-              a_py(m, i, j, k) += S * py;
-              a_pz(m, i, j, k) += S * pz;
-              a_heat(m, i, j, k) += S * mt;
-              a_vol(m, i, j, k) += S * vp;
-              a_fx(m, i, j, k) += S * fx;
-              a_fy(m, i, j, k) += S * fy;
-              a_fz(m, i, j, k) += S * fz;
+              a_mass(m, i, j, k) += ms;
+              a_px(m, i, j, k) += on_grid(S * px, q.momentum);
+              a_py(m, i, j, k) += on_grid(S * py, q.momentum);
+              a_pz(m, i, j, k) += on_grid(S * pz, q.momentum);
+              a_heat(m, i, j, k) += on_grid(S * mt, q.heat);
+              a_vol(m, i, j, k) += on_grid(S * vp, q.volume);
+              a_fx(m, i, j, k) += on_grid(S * fx, q.external_force);
+              a_fy(m, i, j, k) += on_grid(S * fy, q.external_force);
+              a_fz(m, i, j, k) += on_grid(S * fz, q.external_force);
             }
       });
   contribute(sums.mass, s_mass);

@@ -12,6 +12,7 @@
 /// gains is one a particle lost (docs/design.md, "Reactions").
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 
 namespace mpmice {
@@ -26,21 +27,24 @@ struct ProductSources {
 
 /// (E46) on the particles of the reactant `burn.reactant`: with M_c the mass of its
 /// particles in cell c and dm_c = `burn_dm`(reactant, c), every particle in c loses the
-/// fraction f = min(dm_c / M_c, 1) of its mass and volume (f within 1e-12 of 1 is 1: the
-/// particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
+/// fraction f = min(dm_c / M_c, 1) of its mass, and its volume in proportion (f within
+/// 1e-12 of 1 is 1: the particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
 /// momentum m_l v_p and internal energy m_l (c_v,s T_p + dh), added into `src` (zeroed
-/// by the caller). `cell_mass` is scratch of the patch's cell extent. Particle and cell
-/// indices: a particle at x is in cell floor((x - grid.lower) / h). Returns the mass the
+/// by the caller). `cell_mass` is scratch of the patch's cell extent. A particle's cell
+/// is `grid.cell` (from the grid's origin, the same on every decomposition). Returns the mass the
 /// particles lost on this rank (kg; times dh: the heat of reaction released).
+/// With quanta `q` (quanta.hpp) every sum is independent of the particles' order: the
+/// particle masses must then be multiples of q.mass, and the lost mass is rounded to it,
+/// so a particle still loses exactly what its cell's product gains.
 inline double burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
-                                 const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
-                                 const ProductSources& src) {
+                             const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
+                             const ProductSources& src, const SumQuanta& q = SumQuanta()) {
   if (count == 0) return 0.0;
   const SimpleBurn b = burn;
   const ProductSources out = src;
   auto cell_of = KOKKOS_LAMBDA(long p, int c[3]) {
     for (int d = 0; d < 3; ++d)
-      c[d] = int(math::floor((data(p, column(ParticleField::x) + d) - grid.lower[d]) * grid.inv_h[d]));
+      c[d] = grid.cell(data(p, column(ParticleField::x) + d), d);
   };
   Kokkos::deep_copy(cell_mass, 0.0);
   Kokkos::parallel_for(
@@ -60,20 +64,21 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
         if (!(dm > 0) || !(M > 0)) return;
         double f = dm / M;
         const double m = data(p, column(ParticleField::mass));
-        double lost = f * m, kept = m - lost;
-        if (f >= 1.0 - 1e-12) {
+        double lost = on_grid(f * m, q.mass), kept = m - lost;
+        if (f >= 1.0 - 1e-12 || !(kept > 0)) {
           f = 1.0;
           lost = m;
           kept = 0.0;
         }
         data(p, column(ParticleField::mass)) = kept;
-        data(p, column(ParticleField::volume)) *= 1.0 - f;
+        data(p, column(ParticleField::volume)) *= kept / m;
         const int g = b.product;
         Kokkos::atomic_add(&out.mass(g, c[0], c[1], c[2]), lost);
         for (int d = 0; d < 3; ++d)
-          Kokkos::atomic_add(&out.momentum[d](g, c[0], c[1], c[2]), lost * data(p, column(ParticleField::vx) + d));
+          Kokkos::atomic_add(&out.momentum[d](g, c[0], c[1], c[2]),
+                             on_grid(lost * data(p, column(ParticleField::vx) + d), q.momentum));
         Kokkos::atomic_add(&out.energy(g, c[0], c[1], c[2]),
-                           lost * (reactant_cv * data(p, column(ParticleField::temperature)) + b.enthalpy));
+                           on_grid(lost * (reactant_cv * data(p, column(ParticleField::temperature)) + b.enthalpy), q.energy));
         lost_sum += lost;
       },
       lost_mass);

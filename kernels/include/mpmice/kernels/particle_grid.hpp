@@ -3,14 +3,26 @@
 /// \brief What particle kernels need of the patch: where local node 0 is and the
 ///        cell size, plus loading and storing particle tensors.
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/math.hpp>
 #include <mpmice/kernels/mat3.hpp>
 #include <mpmice/kernels/particles.hpp>
 
 namespace mpmice {
 
-/// Local node (i,j,k) sits at lower + (i,j,k) h.
+/// Local node (i,j,k) sits at lower + (i,j,k) h; it is global node first_node + (i,j,k)
+/// of the grid that starts at `origin`. Particle kernels place a particle by its global
+/// coordinate (x - origin)/h, the same number on every patch, so its weights are bit for
+/// bit those of any other decomposition (the local index is then an integer shift).
 struct NodeGrid {
   double lower[3], h[3], inv_h[3];
+  double origin[3] = {0, 0, 0};
+  int first_node[3] = {0, 0, 0};
+  /// Position along d in cells from the grid's origin.
+  KOKKOS_INLINE_FUNCTION double global_coordinate(double x, int d) const { return (x - origin[d]) * inv_h[d]; }
+  /// Local index of the cell holding coordinate x along d.
+  KOKKOS_INLINE_FUNCTION int cell(double x, int d) const {
+    return int(math::floor(global_coordinate(x, d))) - first_node[d];
+  }
 };
 
 inline NodeGrid node_grid(const Patch& p) {
@@ -19,6 +31,8 @@ inline NodeGrid node_grid(const Patch& p) {
     g.h[d] = p.grid.spacing[d];
     g.inv_h[d] = 1.0 / g.h[d];
     g.lower[d] = p.node_position(0, d);
+    g.origin[d] = p.grid.lower[d];
+    g.first_node[d] = p.global_index(0, d);
   }
   return g;
 }

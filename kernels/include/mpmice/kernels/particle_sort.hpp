@@ -23,7 +23,7 @@ inline void sort_particles_by_cell(const Patch& patch, ParticleSet& particles) {
       "mpmice::cell_key", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long p) {
         int c[3];
         for (int d = 0; d < 3; ++d)
-          c[d] = int(math::floor((data(p, column(ParticleField::x) + d) - grid.lower[d]) * grid.inv_h[d]));
+          c[d] = grid.cell(data(p, column(ParticleField::x) + d), d);
         key(p) = (c[0] * ny + c[1]) * nz + c[2];
       });
   using Comp = Kokkos::BinOp1D<Kokkos::View<int*, MemSpace>>;

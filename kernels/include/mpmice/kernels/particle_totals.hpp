@@ -4,6 +4,7 @@
 ///        mass, momentum, energy = stored strain energy + kinetic.
 #include <mpmice/kernels/conserved_totals.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/solid_models.hpp>
 
 namespace mpmice {
@@ -34,6 +35,53 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
       },
       Kokkos::Sum<MaterialTotals>(total));
   return total;
+}
+
+/// The largest P2G contribution of each kind over these particles (weights <= 1):
+/// max m_p, max |m_p v_p,d|, max m_p T_p, max V_p, max |f_ext,d| (for SumQuanta).
+inline SumQuanta particle_scatter_bounds(long count, const ParticleData& data) {
+  SumQuanta b;
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
+  Kokkos::parallel_reduce(
+      "mpmice::bound_mass", policy,
+      KOKKOS_LAMBDA(long p, double& mx) {
+        const double v = data(p, column(ParticleField::mass));
+        mx = v > mx ? v : mx;
+      },
+      Kokkos::Max<double>(b.mass));
+  Kokkos::parallel_reduce(
+      "mpmice::bound_momentum", policy,
+      KOKKOS_LAMBDA(long p, double& mx) {
+        for (int d = 0; d < 3; ++d) {
+          const double v = math::abs(data(p, column(ParticleField::mass)) * data(p, column(ParticleField::vx) + d));
+          mx = v > mx ? v : mx;
+        }
+      },
+      Kokkos::Max<double>(b.momentum));
+  Kokkos::parallel_reduce(
+      "mpmice::bound_heat", policy,
+      KOKKOS_LAMBDA(long p, double& mx) {
+        const double v = data(p, column(ParticleField::mass)) * data(p, column(ParticleField::temperature));
+        mx = v > mx ? v : mx;
+      },
+      Kokkos::Max<double>(b.heat));
+  Kokkos::parallel_reduce(
+      "mpmice::bound_volume", policy,
+      KOKKOS_LAMBDA(long p, double& mx) {
+        const double v = data(p, column(ParticleField::volume));
+        mx = v > mx ? v : mx;
+      },
+      Kokkos::Max<double>(b.volume));
+  Kokkos::parallel_reduce(
+      "mpmice::bound_force", policy,
+      KOKKOS_LAMBDA(long p, double& mx) {
+        for (int d = 0; d < 3; ++d) {
+          const double v = math::abs(data(p, column(ParticleField::fext_x) + d));
+          mx = v > mx ? v : mx;
+        }
+      },
+      Kokkos::Max<double>(b.external_force));
+  return b;
 }
 
 /// Internal (thermal) energy of a solid's particles, sum m_p c_v T_p (J): what a

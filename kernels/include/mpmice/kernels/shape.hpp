@@ -66,6 +66,15 @@ struct ParticleWeights {
     for (int d = 0; d < 3; ++d)
       Shape::weights((x[d] - lower[d]) * inv_h[d], half_width[d], inv_h[d], first[d], w[d], dw[d]);
   }
+  /// The same from the grid's origin (global node 0) with local node 0 the global node
+  /// `first_node`: the weights do not depend on where the patch starts (NodeGrid).
+  KOKKOS_INLINE_FUNCTION ParticleWeights(const double* x, const double* origin, const double* inv_h,
+                                         const int* first_node, const double* half_width) {
+    for (int d = 0; d < 3; ++d) {
+      Shape::weights((x[d] - origin[d]) * inv_h[d], half_width[d], inv_h[d], first[d], w[d], dw[d]);
+      first[d] -= first_node[d];
+    }
+  }
   KOKKOS_INLINE_FUNCTION double weight(int a, int b, int c) const { return w[0][a] * w[1][b] * w[2][c]; }
   KOKKOS_INLINE_FUNCTION void gradient(int a, int b, int c, double* g) const {
     g[0] = dw[0][a] * w[1][b] * w[2][c];

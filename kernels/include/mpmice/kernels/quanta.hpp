@@ -1,0 +1,41 @@
+#pragma once
+/// \file quanta.hpp
+/// \brief Sums that do not depend on their order: every particle's contribution to a
+///        node or cell sum is rounded to a multiple of a power-of-two quantum q, 2^-40
+///        of the largest contribution on any rank. Sums of such multiples stay exact in
+///        double precision (below 2^53 q), so a node gets the same value whatever the
+///        order of its particles, the threads, or the decomposition that adds a
+///        neighbour's ghost nodes into it: the same run on 1 and N ranks gives the same
+///        answer to round-off of the diagnostics only. The rounding changes each
+///        contribution by at most 2^-41 of the largest one.
+#include <cmath>
+
+#include <mpmice/kernels/math.hpp>
+
+namespace mpmice {
+
+/// The quanta of one step's particle scatters (0: no rounding).
+struct SumQuanta {
+  double mass = 0;            ///< kg: S m_p, burned mass
+  double momentum = 0;        ///< kg m/s: S m_p v_p, burned momentum
+  double heat = 0;            ///< kg K: S m_p T_p
+  double volume = 0;          ///< m^3: S V_p
+  double external_force = 0;  ///< N: S f_ext
+  double internal_force = 0;  ///< N: V_p sigma_p . grad S
+  double energy = 0;          ///< J: burned m (c_v T + dh)
+};
+
+/// x rounded to the nearest multiple of q (x itself if q = 0). With q a power of two
+/// the division and the product are exact.
+KOKKOS_INLINE_FUNCTION double on_grid(double x, double q) {
+  return q > 0 ? math::floor(x / q + 0.5) * q : x;
+}
+
+/// The power of two 2^(e - 40) with 2^e <= bound < 2^(e+1): contributions up to `bound`
+/// become integers below 2^41 times it; 0 for a bound that is not positive.
+inline double quantum_for(double bound) {
+  if (!(bound > 0) || !std::isfinite(bound)) return 0.0;
+  return std::ldexp(1.0, std::ilogb(bound) - 40);
+}
+
+}  // namespace mpmice
