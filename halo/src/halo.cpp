@@ -93,28 +93,31 @@ void Halo::exchange(const Field4U& f, Location loc, int depth, bool reverse) {
     if (low == MPI_PROC_NULL && high == MPI_PROC_NULL) continue;
 
     // Extents in the other directions. Fill: directions already swept carry their
-    // ghosts; later ones their interior and the extra layers beyond a domain boundary
-    // (boundary values the owner computed, which no later sweep would bring).
+    // ghosts; later ones their interior; both carry every extra layer beyond a domain
+    // boundary (boundary values the owner computed, which no other sweep would bring: a
+    // reader of `depth` ghosts across a rank may read all the extra layers along the
+    // domain's face, as the cell-to-node average onto the extra nodes does).
     // Reverse: directions not yet swept carry their ghosts, the others what is owned
     // (extra layers included).
     Slab base;
     base.nm = nm;
-    const IndexBox computed = p.with_extra(loc, depth);
+    const IndexBox computed = p.with_extra(loc, reverse ? depth : G);
     for (int e = 0; e < 3; ++e) {
       if (e == d) continue;
       const int nl = on_cell_boundary(loc, e) ? 1 : 0;
       const bool with_ghosts = reverse ? (e > d) : (e < d);
-      if (with_ghosts) {
-        base.box.lo[e] = G - depth;
-        base.box.hi[e] = G + p.owned_cells(e) + nl + depth;
-      } else if (reverse) {
+      const int reach = with_ghosts ? depth : 0;
+      if (reverse && !with_ghosts) {
         // Owned and extra entries: a contribution to an extra node beyond a domain
         // boundary (GIMP near the boundary) belongs to the patch it borders.
         base.box.lo[e] = computed.lo[e];
         base.box.hi[e] = computed.hi[e];
+      } else if (reverse) {
+        base.box.lo[e] = G - reach;
+        base.box.hi[e] = G + p.owned_cells(e) + nl + reach;
       } else {
-        base.box.lo[e] = computed.lo[e];
-        base.box.hi[e] = std::max(computed.hi[e], G + p.owned_cells(e) + nl);
+        base.box.lo[e] = std::min(computed.lo[e], G - reach);
+        base.box.hi[e] = std::max(computed.hi[e], G + p.owned_cells(e) + nl + reach);
       }
     }
     const int n = p.owned_cells(d);
