@@ -152,7 +152,7 @@ void read_exchange_list(Reader& ex, const std::string& key, Input& in, std::vect
 const std::vector<std::string>& field_output_names() {
   static const std::vector<std::string> q{"pressure", "density", "temperature", "volume_fraction", "velocity",
                                           "particle_velocity", "particle_mass", "particle_temperature",
-                                          "von_mises_stress", "particle_stress"};
+                                          "von_mises_stress", "plastic_strain", "particle_stress"};
   return q;
 }
 
@@ -315,6 +315,7 @@ Input load_input(const std::string& file, const std::vector<std::string>& overri
           if (sm.type == SolidModelType::neo_hookean_plastic) {
             sm.yield_stress = r.number("yield_stress", 0.0, big, true);
             sm.hardening_modulus = r.number_or("hardening_modulus", 0.0, 0.0, big);
+            sm.failure_strain = r.number_or("failure_strain", 1e300, 0.0, big, true);
           }
         }
       }

@@ -89,6 +89,7 @@ std::string resolved_yaml(const Input& in) {
         if (s.type == SolidModelType::neo_hookean_plastic) {
           mat["yield_stress"] = s.yield_stress;
           mat["hardening_modulus"] = s.hardening_modulus;
+          if (s.failure_strain < 1e300) mat["failure_strain"] = s.failure_strain;
         }
       }
     }

@@ -86,8 +86,9 @@ std::string xdmf_grids(const Problem& pb, const std::string& h5, const std::vect
       << indent << "    <DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
       << h5 << ":/particles/" << name << "/position</DataItem>\n"
       << indent << "  </Geometry>\n";
-    for (const char* q : {"mass", "temperature", "velocity", "von_mises_stress", "stress"}) {
-      const std::string key = std::string(q) == "von_mises_stress" ? q : "particle_" + std::string(q);
+    for (const char* q : {"mass", "temperature", "velocity", "von_mises_stress", "plastic_strain", "stress"}) {
+      const std::string key = std::string(q) == "von_mises_stress" || std::string(q) == "plastic_strain"
+                                  ? q : "particle_" + std::string(q);
       if (!wanted(pb, key)) continue;
       const bool vector = std::string(q) == "velocity", tensor = std::string(q) == "stress";
       x << indent << "  <Attribute Name=\"" << q << "\" AttributeType=\""
@@ -208,6 +209,8 @@ std::string FieldOutput::write(const Problem& pb) {
         write_block(file.id, base + "/mass", g1, o1, c1, column_of(ParticleField::mass, 1));
       if (wanted(pb, "particle_temperature"))
         write_block(file.id, base + "/temperature", g1, o1, c1, column_of(ParticleField::temperature, 1));
+      if (wanted(pb, "plastic_strain"))
+        write_block(file.id, base + "/plastic_strain", g1, o1, c1, column_of(ParticleField::plastic_strain, 1));
       if (wanted(pb, "particle_stress")) {
         const std::vector<hsize_t> g9{hsize_t(total), 9}, o9{hsize_t(before), 0}, c9{hsize_t(mine), 9};
         write_block(file.id, base + "/stress", g9, o9, c9, column_of(ParticleField::s00, 9));

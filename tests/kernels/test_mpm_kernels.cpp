@@ -3,6 +3,7 @@
 // forms under homogeneous deformation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -263,4 +264,77 @@ TEST(Stress, PlasticYieldsAndHardens) {
   }
   EXPECT_TRUE(yielded);
   EXPECT_GT(eps, 0.005);
+}
+
+// Energy of (E54) with `plastic_heat`: in simple shear (J = 1, tau_01 = J sigma_01) the
+// work done on a material point, sum tau_01 dg (trapezoid), equals its stored energy
+// plus the heat released, through yielding and hardening and past failure. Bound: one
+// step's work, tau dg: the trapezoid is exact to second order while the stress is
+// smooth, and errs by half a step's work in the step where the stress drops to zero.
+// (Without the det-1 bbar in neo_hookean_energy the plastic work was counted twice.)
+TEST(Stress, PlasticHeatClosesTheEnergyBalance) {
+  SolidModel m;
+  m.type = SolidModelType::neo_hookean_plastic;
+  m.bulk_modulus = 100e9;
+  m.shear_modulus = 40e9;
+  m.yield_stress = 200e6;
+  m.hardening_modulus = 2e9;
+  m.failure_strain = 0.01;
+  Mat3 F = Mat3::identity(), be = Mat3::identity();
+  double eps = 0, work = 0, heat = 0, tau_old = 0, step_work = 0;
+  const double dg = 5e-5;
+  Mat3 f = Mat3::identity();
+  f(0, 1) = dg;
+  for (int step = 0; step < 600; ++step) {
+    F = f * F;
+    const double eps_old = eps;
+    const Mat3 s = neo_hookean_plastic_stress(f, F.det(), be, eps, m);
+    heat += plastic_heat(eps_old, eps, F.det(), be, m);
+    work += 0.5 * (tau_old + F.det() * s(0, 1)) * dg;
+    tau_old = F.det() * s(0, 1);
+    step_work = std::max(step_work, std::abs(tau_old) * dg);
+  }
+  ASSERT_GE(eps, m.failure_strain);  // it yielded, hardened and failed
+  const double stored = eps >= m.failure_strain ? failed_energy(F.det(), m.bulk_modulus)
+                                                : neo_hookean_energy(F.det(), be, m.bulk_modulus, m.shear_modulus);
+  EXPECT_GT(heat, 0.9 * work);
+  EXPECT_NEAR(stored + heat, work, step_work);
+}
+
+// Failure: once the plastic strain reaches failure_strain the particle carries no shear
+// and no tension, and in compression exactly its bulk law's pressure.
+TEST(Stress, FailedMaterialKeepsOnlyCompression) {
+  SolidModel m;
+  m.type = SolidModelType::neo_hookean_plastic;
+  m.bulk_modulus = 100e9;
+  m.shear_modulus = 40e9;
+  m.yield_stress = 200e6;
+  m.failure_strain = 0.002;
+  Mat3 F = Mat3::identity(), be = Mat3::identity();
+  double eps = 0;
+  Mat3 f = Mat3::identity();
+  f(0, 1) = 5e-5;
+  int steps = 0;
+  while (eps < m.failure_strain && steps < 1000) {  // simple shear until it fails
+    F = f * F;
+    const Mat3 s = neo_hookean_plastic_stress(f, F.det(), be, eps, m);
+    if (eps < m.failure_strain) EXPECT_GT(s(0, 1), 0.0);  // still carries shear
+    ++steps;
+  }
+  ASSERT_GE(eps, m.failure_strain);
+  for (double stretch : {0.99, 1.01}) {  // then compressed, or stretched, by 1% per side
+    Mat3 g = stretch * Mat3::identity();
+    g(0, 1) = 5e-5;
+    const Mat3 F_new = g * F;
+    Mat3 be_copy = be;
+    double eps_copy = eps;
+    const Mat3 s = neo_hookean_plastic_stress(g, F_new.det(), be_copy, eps_copy, m);
+    const double p = neo_hookean_mean_stress(F_new.det(), m.bulk_modulus);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const double want = (a == b && p < 0) ? p : 0.0;
+        EXPECT_EQ(s(a, b), want) << "stretch " << stretch << " component " << a << b;
+      }
+    EXPECT_EQ(stretch < 1, p < 0);
+  }
 }

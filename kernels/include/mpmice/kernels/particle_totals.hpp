@@ -29,7 +29,10 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
                                 ? load_tensor(data, p, ParticleField::be00)
                                 : math::pow(J, -2.0 / 3.0) * (F * F.transpose());
           // Energy per reference volume times the reference volume m / rho_0.
-          strain = neo_hookean_energy(J, bbar, model.bulk_modulus, model.shear_modulus) * m / model.density;
+          const bool failed = data(p, column(ParticleField::plastic_strain)) >= model.failure_strain;
+          strain = (failed ? failed_energy(J, model.bulk_modulus)
+                           : neo_hookean_energy(J, bbar, model.bulk_modulus, model.shear_modulus)) *
+                   m / model.density;
         }
         t.value[4] += 0.5 * m * (vx * vx + vy * vy + vz * vz) + strain;
       },

@@ -19,6 +19,7 @@ struct SolidModel {
   double shear_modulus = 1e9;     ///< G, Pa
   double yield_stress = 1e300;    ///< sigma_y, Pa (plastic)
   double hardening_modulus = 0;   ///< H, Pa (plastic)
+  double failure_strain = 1e300;  ///< eps_f: plastic strain at which it fails (plastic)
   double cv = 1000.0;             ///< specific heat, J/kg/K
   double prescribed_velocity[3] = {0, 0, 0};  ///< m/s (rigid)
   double stop_time = 1e300;       ///< after this the rigid material stops, s
@@ -63,14 +64,56 @@ KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_stress(const Mat3& F, double K, double G
 }
 
 /// Stored energy per reference volume, (K/2)((J^2 - 1)/2 - ln J) + (G/2)(tr bbar - 3),
-/// whose derivatives give (E53); `bbar` is the (elastic) isochoric left Cauchy-Green.
+/// whose derivatives give (E53); `bbar` is the (elastic) isochoric left Cauchy-Green,
+/// taken at det 1: (E54)'s return map keeps the trial's trace, so bbar_e drifts off
+/// det 1 while yielding, and its raw trace would count the plastic work as stored.
 KOKKOS_INLINE_FUNCTION double neo_hookean_energy(double J, const Mat3& bbar, double K, double G) {
-  return 0.5 * K * (0.5 * (J * J - 1.0) - math::log(J)) + 0.5 * G * (bbar.trace() - 3.0);
+  const double tr = bbar.trace() * math::pow(bbar.det(), -1.0 / 3.0);
+  return 0.5 * K * (0.5 * (J * J - 1.0) - math::log(J)) + 0.5 * G * (tr - 3.0);
+}
+
+/// Stored energy per reference volume of a failed particle: only the bulk law's, and
+/// only in compression (the potential of `failed_stress`).
+KOKKOS_INLINE_FUNCTION double failed_energy(double J, double K) {
+  return J < 1.0 ? 0.5 * K * (0.5 * (J * J - 1.0) - math::log(J)) : 0.0;
+}
+
+/// Heat per reference volume, J/m^3, that one step of (E54) releases in a particle
+/// whose plastic strain went from eps_old to eps_new: the plastic work
+/// (sigma_y + H eps_p) d eps_p, integrated exactly over the step (all of it: the model
+/// stores no cold work), and, in the step it fails, the elastic energy it can no longer
+/// hold, W(J, bbar_e) - failed_energy(J). A failed particle deforms without work.
+KOKKOS_INLINE_FUNCTION double plastic_heat(double eps_old, double eps_new, double J, const Mat3& bbar_e,
+                                           const SolidModel& model) {
+  if (eps_old >= model.failure_strain) return 0.0;
+  double heat = (model.yield_stress + model.hardening_modulus * 0.5 * (eps_old + eps_new)) * (eps_new - eps_old);
+  if (eps_new >= model.failure_strain)
+    heat += neo_hookean_energy(J, bbar_e, model.bulk_modulus, model.shear_modulus) -
+            failed_energy(J, model.bulk_modulus);
+  return heat;
+}
+
+/// Cauchy stress from the Kirchhoff deviator s and the mean stress p (tension > 0).
+KOKKOS_INLINE_FUNCTION Mat3 stress_from(const Mat3& s, double J, double p) {
+  Mat3 sigma = (1.0 / J) * s;
+  for (int i = 0; i < 3; ++i) sigma(i, i) += p;
+  return sigma;
+}
+
+/// A failed particle (plastic strain at or past `failure_strain`) carries neither shear
+/// nor tension, only its bulk law's pressure in compression (Uintah's erosion
+/// "AllowNoTension"): the material breaks up and the gas behind it goes through. Not in
+/// mpmice-algorithm.md; docs/design.md, "Failure".
+KOKKOS_INLINE_FUNCTION Mat3 failed_stress(double p) {
+  Mat3 sigma = Mat3::zero();
+  if (p < 0.0)
+    for (int i = 0; i < 3; ++i) sigma(i, i) = p;
+  return sigma;
 }
 
 /// One step of J2 plasticity on the neo-Hookean model (E54, Simo's return map):
 /// `f` = F_new F_old^{-1}, bbar_e and eps_p updated in place; returns the Cauchy
-/// stress for det F_new = J.
+/// stress for det F_new = J (`failed_stress` once eps_p >= failure_strain).
 KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_plastic_stress(const Mat3& f, double J, Mat3& bbar_e,
                                                        double& eps_p, const SolidModel& model) {
   const double G = model.shear_modulus;
@@ -90,10 +133,8 @@ KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_plastic_stress(const Mat3& f, double J, 
   } else {
     bbar_e = b_trial;
   }
-  Mat3 sigma = (1.0 / J) * s;
   const double p = neo_hookean_mean_stress(J, model.bulk_modulus);
-  for (int i = 0; i < 3; ++i) sigma(i, i) += p;
-  return sigma;
+  return eps_p >= model.failure_strain ? failed_stress(p) : stress_from(s, J, p);
 }
 
 }  // namespace mpmice

@@ -6,8 +6,8 @@
 
 namespace mpmice {
 
-/// Updates stress (and bbar_e, plastic strain) of the `count` particles of one
-/// material; returns min over particles and directions of h_d / (c_dil + |v_d|), the
+/// Updates stress (and bbar_e, plastic strain, and the temperature by the plastic
+/// work, `plastic_heat`) of the `count` particles of one material; returns min over particles and directions of h_d / (c_dil + |v_d|), the
 /// dilatational wave speed at the current density rho_0 / J (E58); a rigid material
 /// does not limit the step (returns a huge value).
 inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
@@ -24,8 +24,13 @@ inline double stress_update(const NodeGrid& grid, long count, const ParticleData
           const Mat3 f = deformation_increment(load_tensor(data, p, ParticleField::L00), dt);
           Mat3 be = load_tensor(data, p, ParticleField::be00);
           double& eps = data(p, column(ParticleField::plastic_strain));
+          const double eps_old = eps;
           sigma = neo_hookean_plastic_stress(f, J, be, eps, model);
           store_tensor(data, p, ParticleField::be00, be);
+          // Plastic work and the energy released by failure heat the particle:
+          // dT = heat / (rho_0 c_v), heat per reference volume.
+          data(p, column(ParticleField::temperature)) +=
+              plastic_heat(eps_old, eps, J, be, model) / (model.density * model.cv);
         } else {
           sigma = neo_hookean_stress(F, model.bulk_modulus, model.shear_modulus);
         }
