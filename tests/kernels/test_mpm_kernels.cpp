@@ -231,16 +231,25 @@ TEST(Stress, NeoHookeanClosedForms) {
   }
 }
 
-// (E54): elastic below yield (equal to neo-Hookean), on the yield surface
-// sqrt(3/2)|s| = sigma_y + H eps_p once yielding, and the yield stress grows with
-// the hardening modulus.
-TEST(Stress, PlasticYieldsAndHardens) {
+// A copper-like J2 material for the plastic tests (K 100 GPa, G 40 GPa, yield 200 MPa,
+// hardening 2 GPa).
+namespace {
+SolidModel copper_like_plastic() {
   SolidModel m;
   m.type = SolidModelType::neo_hookean_plastic;
   m.bulk_modulus = 100e9;
   m.shear_modulus = 40e9;
   m.yield_stress = 200e6;
   m.hardening_modulus = 2e9;
+  return m;
+}
+}  // namespace
+
+// (E54): elastic below yield (equal to neo-Hookean), on the yield surface
+// sqrt(3/2)|s| = sigma_y + H eps_p once yielding, and the yield stress grows with
+// the hardening modulus.
+TEST(Stress, PlasticYieldsAndHardens) {
+  SolidModel m = copper_like_plastic();
   Mat3 F = Mat3::identity(), be = Mat3::identity();
   double eps = 0, previous_eps = 0;
   bool yielded = false;
@@ -273,12 +282,7 @@ TEST(Stress, PlasticYieldsAndHardens) {
 // smooth, and errs by half a step's work in the step where the stress drops to zero.
 // (Without the det-1 bbar in neo_hookean_energy the plastic work was counted twice.)
 TEST(Stress, PlasticHeatClosesTheEnergyBalance) {
-  SolidModel m;
-  m.type = SolidModelType::neo_hookean_plastic;
-  m.bulk_modulus = 100e9;
-  m.shear_modulus = 40e9;
-  m.yield_stress = 200e6;
-  m.hardening_modulus = 2e9;
+  SolidModel m = copper_like_plastic();
   m.failure_strain = 0.01;
   Mat3 F = Mat3::identity(), be = Mat3::identity();
   double eps = 0, work = 0, heat = 0, tau_old = 0, step_work = 0;
@@ -304,11 +308,8 @@ TEST(Stress, PlasticHeatClosesTheEnergyBalance) {
 // Failure: once the plastic strain reaches failure_strain the particle carries no shear
 // and no tension, and in compression exactly its bulk law's pressure.
 TEST(Stress, FailedMaterialKeepsOnlyCompression) {
-  SolidModel m;
-  m.type = SolidModelType::neo_hookean_plastic;
-  m.bulk_modulus = 100e9;
-  m.shear_modulus = 40e9;
-  m.yield_stress = 200e6;
+  SolidModel m = copper_like_plastic();
+  m.hardening_modulus = 0.0;
   m.failure_strain = 0.002;
   Mat3 F = Mat3::identity(), be = Mat3::identity();
   double eps = 0;
