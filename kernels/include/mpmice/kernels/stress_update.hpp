@@ -7,9 +7,10 @@
 namespace mpmice {
 
 /// Updates stress (and bbar_e, plastic strain, and the temperature by the plastic
-/// work, `plastic_heat`) of the `count` particles of one material; returns min over particles and directions of h_d / (c_dil + |v_d|), the
-/// dilatational wave speed at the current density rho_0 / J (E58); a rigid material
-/// does not limit the step (returns a huge value).
+/// work, `plastic_heat`) of the `count` particles of one material; returns min over
+/// particles and directions of h_d / (c_dil + |v_d|), the dilatational wave speed at
+/// the current density rho_0 / J (E58); a rigid material does not limit the step
+/// (returns a huge value).
 inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
                             const SolidModel& model, double dt) {
   if (model.type == SolidModelType::rigid) return 1e300;
