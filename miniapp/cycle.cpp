@@ -169,12 +169,14 @@ SumQuanta Cycle::scatter_quanta(int s) const {
   MPI_Comm comm = m_pb.decomposition->comm();
   const ParticleSet& ps = m_pb.particles[s];
   const SumQuanta bound = particle_scatter_bounds(long(ps.size()), ps.data());
+  std::vector<double> largest{bound.momentum, bound.heat, bound.volume, bound.external_force};
+  global_max(comm, largest);  // one allreduce for the four
   SumQuanta q;
   q.mass = m_mass_quantum[s];
-  q.momentum = quantum_for(global_max(comm, bound.momentum));
-  q.heat = quantum_for(global_max(comm, bound.heat));
-  q.volume = quantum_for(global_max(comm, bound.volume));
-  q.external_force = quantum_for(global_max(comm, bound.external_force));
+  q.momentum = quantum_for(largest[0]);
+  q.heat = quantum_for(largest[1]);
+  q.volume = quantum_for(largest[2]);
+  q.external_force = quantum_for(largest[3]);
   return q;
 }
 

@@ -31,6 +31,11 @@ inline long global_sum(MPI_Comm comm, long x) {
   return r;
 }
 
+/// Element-wise maximum of `v` over all ranks, in place.
+inline void global_max(MPI_Comm comm, std::vector<double>& v) {
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), int(v.size()), MPI_DOUBLE, MPI_MAX, comm);
+}
+
 /// Element-wise sum of `v` over all ranks, in place.
 inline void global_sum(MPI_Comm comm, std::vector<double>& v) {
   MPI_Allreduce(MPI_IN_PLACE, v.data(), int(v.size()), MPI_DOUBLE, MPI_SUM, comm);

@@ -62,11 +62,10 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
         const double dm = burn_dm(b.reactant, c[0], c[1], c[2]);
         const double M = cell_mass(c[0], c[1], c[2]);
         if (!(dm > 0) || !(M > 0)) return;
-        double f = dm / M;
+        const double f = dm / M;
         const double m = data(p, column(ParticleField::mass));
         double lost = on_grid(f * m, q.mass), kept = m - lost;
-        if (f >= 1.0 - 1e-12 || !(kept > 0)) {
-          f = 1.0;
+        if (f >= 1.0 - 1e-12 || !(kept > 0)) {  // burned out
           lost = m;
           kept = 0.0;
         }

@@ -40,50 +40,57 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
   return total;
 }
 
+/// Running maxima of the P2G contributions, in one reduction: Kokkos reduces a struct
+/// through operator+= (as MaterialTotals), which here keeps the larger of each entry;
+/// every entry is >= 0, so the sum's identity 0 is also the maximum's.
+struct ScatterMaxima {
+  double value[4] = {0, 0, 0, 0};  ///< |m v|, m T, V, |f_ext|
+  KOKKOS_INLINE_FUNCTION ScatterMaxima& operator+=(const ScatterMaxima& o) {
+    for (int q = 0; q < 4; ++q) value[q] = o.value[q] > value[q] ? o.value[q] : value[q];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile ScatterMaxima& o) volatile {
+    for (int q = 0; q < 4; ++q) value[q] = o.value[q] > value[q] ? o.value[q] : value[q];
+  }
+};
+
+}  // namespace mpmice
+
+namespace Kokkos {
+template <>
+struct reduction_identity<mpmice::ScatterMaxima> {
+  KOKKOS_FORCEINLINE_FUNCTION static mpmice::ScatterMaxima sum() { return {}; }
+};
+}  // namespace Kokkos
+
+namespace mpmice {
+
 /// The largest P2G contribution of each kind over these particles (weights <= 1):
-/// max m_p, max |m_p v_p,d|, max m_p T_p, max V_p, max |f_ext,d| (for SumQuanta).
+/// max |m_p v_p,d|, max m_p T_p, max V_p, max |f_ext,d| (for SumQuanta; the mass
+/// quantum is fixed for the run, `mass` stays 0), in one pass.
 inline SumQuanta particle_scatter_bounds(long count, const ParticleData& data) {
+  ScatterMaxima mx;
+  Kokkos::parallel_reduce(
+      "mpmice::particle_scatter_bounds", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, ScatterMaxima& t) {
+        const double m = data(p, column(ParticleField::mass));
+        ScatterMaxima here;
+        for (int d = 0; d < 3; ++d) {
+          const double mv = math::abs(m * data(p, column(ParticleField::vx) + d));
+          const double f = math::abs(data(p, column(ParticleField::fext_x) + d));
+          here.value[0] = mv > here.value[0] ? mv : here.value[0];
+          here.value[3] = f > here.value[3] ? f : here.value[3];
+        }
+        here.value[1] = m * data(p, column(ParticleField::temperature));
+        here.value[2] = data(p, column(ParticleField::volume));
+        t += here;
+      },
+      Kokkos::Sum<ScatterMaxima>(mx));
   SumQuanta b;
-  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
-  Kokkos::parallel_reduce(
-      "mpmice::bound_mass", policy,
-      KOKKOS_LAMBDA(long p, double& mx) {
-        const double v = data(p, column(ParticleField::mass));
-        mx = v > mx ? v : mx;
-      },
-      Kokkos::Max<double>(b.mass));
-  Kokkos::parallel_reduce(
-      "mpmice::bound_momentum", policy,
-      KOKKOS_LAMBDA(long p, double& mx) {
-        for (int d = 0; d < 3; ++d) {
-          const double v = math::abs(data(p, column(ParticleField::mass)) * data(p, column(ParticleField::vx) + d));
-          mx = v > mx ? v : mx;
-        }
-      },
-      Kokkos::Max<double>(b.momentum));
-  Kokkos::parallel_reduce(
-      "mpmice::bound_heat", policy,
-      KOKKOS_LAMBDA(long p, double& mx) {
-        const double v = data(p, column(ParticleField::mass)) * data(p, column(ParticleField::temperature));
-        mx = v > mx ? v : mx;
-      },
-      Kokkos::Max<double>(b.heat));
-  Kokkos::parallel_reduce(
-      "mpmice::bound_volume", policy,
-      KOKKOS_LAMBDA(long p, double& mx) {
-        const double v = data(p, column(ParticleField::volume));
-        mx = v > mx ? v : mx;
-      },
-      Kokkos::Max<double>(b.volume));
-  Kokkos::parallel_reduce(
-      "mpmice::bound_force", policy,
-      KOKKOS_LAMBDA(long p, double& mx) {
-        for (int d = 0; d < 3; ++d) {
-          const double v = math::abs(data(p, column(ParticleField::fext_x) + d));
-          mx = v > mx ? v : mx;
-        }
-      },
-      Kokkos::Max<double>(b.external_force));
+  b.momentum = mx.value[0];
+  b.heat = mx.value[1];
+  b.volume = mx.value[2];
+  b.external_force = mx.value[3];
   return b;
 }
 
