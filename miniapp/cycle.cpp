@@ -30,6 +30,7 @@
 #include <mpmice/kernels/kinetic_energy_fix.hpp>
 #include <mpmice/kernels/lagrangian_values.hpp>
 #include <mpmice/kernels/pressure_update.hpp>
+#include <mpmice/kernels/pressure_work_heat.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 #include <mpmice/kernels/sources.hpp>
 #include <mpmice/kernels/specific_volume.hpp>
@@ -388,7 +389,7 @@ void Cycle::add_pressure_steps() {
                        {"rho_CC", 0}},
                       vec("vel_FCME", 1)}),
       cat<FieldWrite>({{{"adv_vol_frac_CC"}, {"delP_Dilatate"}, {"delP_MassX"}, {"press_CC_new"}, {"sum_rho_CC"}},
-                       new_gas_write}),
+                       vec_out("vol_flux_FC"), new_gas_write}),
       [=, &dt](const StepContext& ctx) {
         const auto U = read_vec(ctx, "vel_FCME");
         const double outflux = max_outflux_fraction(owned, h, dt, n, U);
@@ -396,9 +397,17 @@ void Cycle::add_pressure_steps() {
           throw RedoStep("an outflux slab exceeds its cell (E39)");
         const auto theta = ctx.read<Field4>("vol_frac_CC");
         const auto adv = ctx.write<Field4>("adv_vol_frac_CC");
+        const auto flux_names = components("vol_flux_FC");
+        const Field3 flux[3] = {ctx.write<Field3>(flux_names[0]), ctx.write<Field3>(flux_names[1]),
+                                ctx.write<Field3>(flux_names[2])};
+        for (int d = 0; d < 3; ++d) Kokkos::deep_copy(flux[d], 0.0);
         for (int m = 0; m < n; ++m) {
           if (second_order) limited_gradient(p.ghosted_cells(1), h, theta, m, ConstField4(), GradientField(), m_grad);
           advection_change(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), adv);
+          // The fluids' volume fluxes, for the pressure work's heat (pressure_work_heat.hpp).
+          if (mats.is_ice(m))
+            for (int d = 0; d < 3; ++d)
+              add_face_flux(faces_of_owned_cells(p, d), d, h, dt, U, m, theta, second_order, m_grad, flux[d]);
         }
         const auto press = ctx.write<Field3>("press_CC_new");
         // dP_mx (E20) with the new gas's own specific volume (new_gas_specific_volume).
@@ -583,6 +592,46 @@ void Cycle::add_lagrangian_steps() {
                  ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>(temp_before), vel, temp,
                  ctx.write<Field4>("Tdot_CC"));
         for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], p, bc.velocity, d);
+        fill_extra_cells(temp, p, bc.temperature, -1);
+      }});
+
+  // After Step 17: the pressure work's heat (pressure_work_heat.hpp; docs/design.md).
+  const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
+  const auto gravity = pb.input.ice.gravity;
+  m_steps.push_back(Step{
+      "pressure_work_heat",
+      cat<FieldRead>({vec("press_FC", 0), vec("vol_flux_FC", 0),
+                      {{"vol_frac_CC", 1},
+                       {"press_CC_new", 0},
+                       {"int_eng_source_CC", 0},
+                       {"kappa_CC", 0},
+                       {"sumKappa_CC", 0},
+                       {"adv_vol_frac_CC", 0},
+                       {"rho_CC", 0},
+                       {"mass_L_CC", 0}},
+                      vec("mom_L_CC", 0), vec("mom_source_CC", 0), vec("vel_ME_CC", 0)}),
+      {{"temp_ME_CC"}, {"Tdot_CC"}},
+      [=, &dt](const StepContext& ctx) {
+        const auto c = components("press_FC");
+        PressureWorkInputs in;
+        for (int d = 0; d < 3; ++d) in.press_face[d] = ctx.read<Field3>(c[d]);
+        const auto flux_names = components("vol_flux_FC");
+        for (int d = 0; d < 3; ++d) in.face_flux[d] = ctx.read<Field3>(flux_names[d]);
+        in.vol_frac = ctx.read<Field4>("vol_frac_CC");
+        in.press = ctx.read<Field3>("press_CC_new");
+        in.work = ctx.read<Field4>("int_eng_source_CC");
+        in.kappa = ctx.read<Field4>("kappa_CC");
+        in.sum_kappa = ctx.read<Field3>("sumKappa_CC");
+        in.adv_vol_frac = ctx.read<Field4>("adv_vol_frac_CC");
+        in.rho = ctx.read<Field4>("rho_CC");
+        in.mass_L = ctx.read<Field4>("mass_L_CC");
+        in.mom_L = read_vec(ctx, "mom_L_CC");
+        in.mom_source = read_vec(ctx, "mom_source_CC");
+        in.vel_me = read_vec(ctx, "vel_ME_CC");
+        const double hh[3] = {h[0], h[1], h[2]};
+        const auto temp = ctx.write<Field4>("temp_ME_CC");
+        pressure_work_heat(owned, hh, dt, {gravity[0], gravity[1], gravity[2]}, mats, in, temp,
+                           ctx.write<Field4>("Tdot_CC"));
         fill_extra_cells(temp, p, bc.temperature, -1);
       }});
 

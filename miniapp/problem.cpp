@@ -152,6 +152,7 @@ void register_fields(Problem& pb) {
   face4("vel_FCME");
   // Step 7
   cell4("adv_vol_frac_CC");
+  face3("vol_flux_FC");  // the fluids' volume flux through each face (pressure_work_heat)
   cell3("delP_Dilatate");
   cell3("delP_MassX");
   cell3("sum_rho_CC");

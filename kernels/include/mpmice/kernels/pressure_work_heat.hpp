@@ -1,0 +1,132 @@
+#pragma once
+/// \file pressure_work_heat.hpp
+/// \brief Total-energy consistency of the pressure work (an addition to
+///        mpmice-algorithm.md, docs/design.md "Energy of the pressure work"): after the
+///        exchange (E31), the heat that makes each cell's pressure work the flux form
+///        -sum_faces p^f Phi^f, so that the work telescopes over the grid.
+///
+/// The internal-energy form charges the fluids p^{n+1}_c times their volume change
+/// (E23), while the pressure force gives the materials the kinetic energy of the
+/// face-pressure kick (E22) less what the exchange removes (E31). Their sum is not
+/// the divergence of a flux: where the pressure jumps between cells (gas trapped next
+/// to a burning solid, held to it by the stiff drag, leaking out at the face velocity
+/// (E18)), the gas pays its expansion work at its own cell's pressure and the kinetic
+/// energy of that leak is never resolved by cell velocities; the work is lost instead of
+/// heating the gas, as a throttled gas is heated by its friction. This kernel returns
+/// the difference, per cell, as heat.
+#include <mpmice/kernels/materials.hpp>
+
+namespace mpmice {
+
+/// Inputs of `pressure_work_heat` (all from the current step).
+struct PressureWorkInputs {
+  Kokkos::Array<ConstField3, 3> press_face;  ///< p^f (E21) on the faces of the cells
+  Kokkos::Array<ConstField3, 3> face_flux;   ///< Phi^f: the fluids' volume flux (add_face_flux)
+  ConstField4 vol_frac;                      ///< theta_r (E16)
+  ConstField3 press;                         ///< p^{n+1} (E20)
+  ConstField4 work;                          ///< the fluids' energy sources W_r (E23)
+  ConstField4 kappa;                         ///< kappa_r (E16)
+  ConstField3 sum_kappa;                     ///< SK (E16)
+  ConstField4 adv_vol_frac;                  ///< Adv[theta_r] (E20)
+  ConstField4 rho;                           ///< rho_r^n, for the gravity part of Q_r
+  ConstField4 mass_L;                        ///< mL_r (E29, E30)
+  ConstVectorField4 mom_L;                   ///< PL_r (E27-E30), including Q_r
+  ConstVectorField4 mom_source;              ///< Q_r (E22)
+  ConstVectorField4 vel_me;                  ///< u_r after the exchange (E31)
+};
+
+/// Over `cells`, the heat
+///   heat_c = - sum_faces (outward) p^f Phi^f          the fluids' work in flux form
+///            + p V (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]
+///                                                     the solids' push on the fluids
+///            - sum_ICE W_r                            what (E23) and mass_exchange_work charged
+///            - sum_r [mL_r |u_r^ME|^2 - |PL_r - Q_r|^2 / mL_r] / 2
+///                                                     kinetic energy from the kick and exchange
+/// with Phi^f the fluids' volume flux through a face over the step (`add_face_flux`: the
+/// slabs of theta that Adv[theta] of (E20) moves, summed over the ICE materials) and Q_r
+/// the pressure part of the kick (E22) of an ICE material (0 for a solid: the push pays
+/// for a solid's kick, counting it again would charge the fluids twice). Over a closed
+/// box the first term sums to zero: the fluids' pressure work becomes exactly the kinetic
+/// energy it makes and the solids' push. Cells holding a rigid material (theta > 1e-6),
+/// and their face neighbours, are left alone: a prescribed motion works from outside.
+/// heat_c goes to the non-rigid materials in proportion to m c_v T (one relative
+/// temperature change, so a trace material takes a trace), at most -1/2 of sum m c_v T
+/// (every temperature stays positive); `temp_me` and `temp_rate` (Tdot, read by E32)
+/// change by it. Returns the sum of heat_c over `cells`, J.
+inline double pressure_work_heat(const IndexBox& cells, const double h[3], double dt,
+                                 const Kokkos::Array<double, 3> gravity, const MaterialTable& mats,
+                                 const PressureWorkInputs& in, const Field4& temp_me, const Field4& temp_rate) {
+  const double hx = h[0], hy = h[1], hz = h[2];
+  const double V = hx * hy * hz;
+  const PressureWorkInputs f = in;
+  double total = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::pressure_work_heat", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& sum) {
+        const int n = mats.count;
+        // A rigid body's prescribed motion works from outside on its cells and, through
+        // their faces, on the cells next to them: no balance there.
+        for (int r = 0; r < n; ++r) {
+          if (!mats.is_rigid(r)) continue;
+          if (f.vol_frac(r, i, j, k) > 1e-6) return;
+          for (int d = 0; d < 3; ++d)
+            for (int side = -1; side <= 1; side += 2) {
+              const int a = i + (d == 0) * side, b = j + (d == 1) * side, e = k + (d == 2) * side;
+              if (f.vol_frac(r, a, b, e) > 1e-6) return;
+            }
+        }
+        // Flux form: -sum over the six faces of (outward sign) p^f Phi^f.
+        double flux_work = 0;
+        for (int d = 0; d < 3; ++d) {
+          const int hi[3] = {i + (d == 0), j + (d == 1), k + (d == 2)};
+          flux_work -= f.press_face[d](hi[0], hi[1], hi[2]) * f.face_flux[d](hi[0], hi[1], hi[2]) -
+                       f.press_face[d](i, j, k) * f.face_flux[d](i, j, k);
+        }
+        // The solids' push on the fluids: their share of the solids' volume flux, p V
+        // (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]. What (E23) charged: the sum
+        // of the fluids' energy sources (its mass-exchange part sums to zero in a cell).
+        double theta_kappa = 0, solid_adv = 0, charged = 0;
+        for (int r = 0; r < n; ++r) {
+          if (!mats.is_ice(r)) {
+            solid_adv += f.adv_vol_frac(r, i, j, k);
+            continue;
+          }
+          charged += f.work(r, i, j, k);
+          if (f.vol_frac(r, i, j, k) > 1e-6) theta_kappa += f.vol_frac(r, i, j, k) * f.kappa(r, i, j, k);
+        }
+        const double solid_push = V * f.press(i, j, k) * theta_kappa * solid_adv / f.sum_kappa(i, j, k);
+        // Kinetic energy from the fluids' pressure kick and from the exchange.
+        double kinetic = 0, thermal = 0;
+        for (int r = 0; r < n; ++r) {
+          const double m = f.mass_L(r, i, j, k);
+          const bool ice = mats.is_ice(r);
+          const double weight = ice ? f.rho(r, i, j, k) * V * dt : 0.0;
+          double after = 0, before = 0;
+          for (int d = 0; d < 3; ++d) {
+            const double u = f.vel_me[d](r, i, j, k);
+            const double kick = ice ? f.mom_source[d](r, i, j, k) - weight * gravity[d] : 0.0;
+            const double p0 = f.mom_L[d](r, i, j, k) - kick;
+            after += u * u;
+            before += p0 * p0;
+          }
+          kinetic += 0.5 * m * after - 0.5 * before / m;
+          if (!mats.is_rigid(r)) thermal += m * mats.eos[r].cv * temp_me(r, i, j, k);
+        }
+        // At most half the cell's thermal energy leaves in one step (a cell of trace
+        // materials next to a large pressure jump); the rest is not put back.
+        double heat = flux_work + solid_push - charged - kinetic;
+        if (heat < -0.5 * thermal) heat = -0.5 * thermal;
+        const double scale = heat / thermal;
+        for (int r = 0; r < n; ++r) {
+          if (mats.is_rigid(r)) continue;
+          const double dtemp = scale * temp_me(r, i, j, k);
+          temp_me(r, i, j, k) += dtemp;
+          temp_rate(r, i, j, k) += dtemp / dt;
+        }
+        sum += heat;
+      },
+      total);
+  return total;
+}
+
+}  // namespace mpmice
