@@ -3,7 +3,8 @@
 Usage: /usr/bin/python3 docs/scripts/sod_plot.py OUT.png RUN_DIR [RUN_DIR ...]
 Each RUN_DIR holds the fields.csv of a run of problems/sod.yaml. Prints a markdown
 table of L1 errors (per unit length) of density, velocity and pressure with the
-observed order between successive resolutions, and writes the profiles to OUT.png.
+observed order between successive resolutions and the finest run's shocked density
+plateau, and writes the profiles to OUT.png.
 """
 import csv
 import math
@@ -46,6 +47,12 @@ def main():
         order = "" if previous is None else "%.2f" % (math.log(previous[1] / err[0]) / math.log(n / previous[0]))
         print("| %d | %.5f | %.5f | %.5f | %s |" % (n, err[0], err[1], err[2], order))
         previous = (n, err[0])
+    # The shocked plateau between the contact (x = 0.685) and the shock (x = 0.850) at the
+    # finest resolution, away from both fronts.
+    x, rho = data[-1][0], data[-1][1]
+    inside = [r for xi, r in zip(x, rho) if 0.72 < xi < 0.83]
+    print("shocked density plateau, %d cells, x in (0.72, 0.83): mean %.5f, exact %.5f"
+          % (len(x), sum(inside) / len(inside), exact(0.775)[0]))
 
     import matplotlib
     matplotlib.use("Agg")
