@@ -9,6 +9,9 @@
 //                        Tdot (5)                                          -> 104 N
 //  advection_change (1st order, one material): reads q, 3 face velocities;
 //                        writes the change                                 -> 40
+//  advection_change (2nd order, compatible, as the driver moves momentum and
+//                        energy): reads q, m, grad q (3), grad m (3), 3 face
+//                        velocities; writes the change                     -> 96
 #include <benchmark/benchmark.h>
 
 #include <mpmice/kernels/advection.hpp>
@@ -95,6 +98,26 @@ void BM_advection_first_order(benchmark::State& state) {
   report(state, p.grid.cell_count(), 40.0);
 }
 
+void BM_advection_second_order(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Patch p = cube_patch(n);
+  const Field4 q = cell_field(p, 1, 1.0, 0.1, 1), mass = cell_field(p, 1, 1e-9, 0.1, 5),
+               change = make_field("dq", p, Location::cell, 1);
+  const ConstVectorField4 U{cell_field(p, 1, 0.0, 1.0, 2), cell_field(p, 1, 0.0, 1.0, 3), cell_field(p, 1, 0.0, 1.0, 4)};
+  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
+  auto gradient = [&](const char* name) {
+    return GradientField{make_field(name, p, Location::cell), make_field(name, p, Location::cell),
+                         make_field(name, p, Location::cell)};
+  };
+  const GradientField mass_grad = gradient("gm"), grad = gradient("gq");
+  limited_gradient(p.ghosted_cells(1), h, mass, 0, ConstField4(), GradientField(), mass_grad);
+  limited_gradient(p.ghosted_cells(1), h, q, 0, mass, mass_grad, grad);
+  for (auto _ : state)
+    state.SetIterationTime(
+        timed([&] { advection_change(p.owned_cells(), h, 1e-7, U, 0, q, mass, true, grad, mass_grad, change); }));
+  report(state, p.grid.cell_count(), 96.0);
+}
+
 void cell_sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"cells", "mats"});
   for (int n : {16, 32, 64, 128})
@@ -107,3 +130,4 @@ BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_advection_first_order)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();
+BENCHMARK(BM_advection_second_order)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();

@@ -24,16 +24,17 @@ TEST(IdealGas, InverseAndSoundSpeed) {
 }
 
 TEST(SmallSolve, MatchesKnownSolution) {
-  // A x = b with a 3x3 system needing a pivot.
-  double a[max_materials * max_materials] = {};
-  const double rows[3][3] = {{0, 2, 1}, {1, 1, 1}, {2, 1, 3}};
+  // A x = b with a 3x3 system of the exchange's kind (no pivoting): diagonally
+  // dominant by rows, off-diagonal entries negative and far from symmetric.
+  double a[3 * 3] = {};
+  const double rows[3][3] = {{1.5, -0.25, -0.25}, {-40, 61, -20}, {-1e3, -2e3, 3001}};
   for (int r = 0; r < 3; ++r)
-    for (int s = 0; s < 3; ++s) a[r * max_materials + s] = rows[r][s];
+    for (int s = 0; s < 3; ++s) a[r * 3 + s] = rows[r][s];
   const double x[3] = {1.5, -2.0, 0.25};
-  double b[max_materials] = {};
+  double b[3] = {};
   for (int r = 0; r < 3; ++r)
     for (int s = 0; s < 3; ++s) b[r] += rows[r][s] * x[s];
-  solve_dense(3, a, b, 1);
+  solve_dense<3, 1>(a, b);
   for (int r = 0; r < 3; ++r) EXPECT_NEAR(b[r], x[r], 1e-14);
 }
 
@@ -43,8 +44,8 @@ TEST(SmallSolve, ExchangeConservesAndEqualises) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.1, 2.0);
   for (double K : {1.0, 1e5, 1e15}) {
-    const int n = 4;
-    double mass[n], q[max_materials], beta[max_materials * max_materials];
+    constexpr int n = 4;
+    double mass[n], q[n], beta[n * n];
     double before = 0, scale = 0;
     for (int r = 0; r < n; ++r) {
       mass[r] = u(rng);
@@ -54,8 +55,8 @@ TEST(SmallSolve, ExchangeConservesAndEqualises) {
     }
     // beta_rs = K w_rs / m_r with w symmetric: m_r beta_rs symmetric, as in (E31).
     for (int r = 0; r < n; ++r)
-      for (int s = 0; s < n; ++s) beta[r * max_materials + s] = r == s ? 0 : K * (1.0 + r + s) / mass[r] * 1e-3;
-    implicit_exchange(n, beta, q, 1, mass);
+      for (int s = 0; s < n; ++s) beta[r * n + s] = r == s ? 0 : K * (1.0 + r + s) / mass[r] * 1e-3;
+    implicit_exchange<n, 1>(beta, q, mass);
     double after = 0;
     for (int r = 0; r < n; ++r) after += mass[r] * q[r];
     // Elimination with N=4 loses a few ulps of the largest term per operation.

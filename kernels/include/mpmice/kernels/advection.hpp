@@ -8,6 +8,8 @@
 ///
 /// Uintah's second-order advector is the reference for the slab centroids and the
 /// compatible slab value m_slab q_c + m_c (G . r).
+#include <type_traits>
+
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/math.hpp>
 
@@ -99,18 +101,20 @@ inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 
 namespace detail {
 
 // The value carried by slab f of cell c (E42/E43); first order when there is no
-// gradient.
+// gradient. The two choices are template arguments, so that each of the four kernels
+// carries only its own arithmetic.
+template <bool SecondOrder, bool Compatible>
 struct SlabValue {
+  static constexpr bool second_order = SecondOrder;  // uses the six outflux distances d
   ConstField4 q, mass;
   GradientField grad, mass_grad;
-  bool second_order, compatible;
   int m;
   double h[3];
 
   KOKKOS_INLINE_FUNCTION double operator()(int i, int j, int k, int f, const double* d) const {
     const double qc = q(m, i, j, k);
-    const double mc = compatible ? mass(m, i, j, k) : 1.0;
-    if (!second_order) return mc * qc;
+    if (!SecondOrder) return Compatible ? mass(m, i, j, k) * qc : qc;
+    const double mc = Compatible ? mass(m, i, j, k) : 1.0;
     // Centroid of slab f relative to the cell centre.
     const int dir = f / 2;
     double r[3];
@@ -118,12 +122,122 @@ struct SlabValue {
     r[dir] = (f & 1) ? 0.5 * (h[dir] - d[f]) : 0.5 * (d[f] - h[dir]);
     double gq = 0;
     for (int c = 0; c < 3; ++c) gq += grad[c](i, j, k) * r[c];
-    if (!compatible) return qc + gq;
+    if (!Compatible) return qc + gq;
     double gm = 0;
     for (int c = 0; c < 3; ++c) gm += mass_grad[c](i, j, k) * r[c];
     return (mc + gm) * qc + mc * gq;
   }
 };
+
+// Calls f(std::integral_constant<bool, second_order>{}, std::integral_constant<bool, compatible>{}).
+template <class F>
+void with_slab_kind(bool second_order, bool compatible, F&& f) {
+  using yes = std::integral_constant<bool, true>;
+  using no = std::integral_constant<bool, false>;
+  if (second_order) {
+    if (compatible) f(yes{}, yes{}); else f(yes{}, no{});
+  } else {
+    if (compatible) f(no{}, yes{}); else f(no{}, no{});
+  }
+}
+
+// First order: what one face of cell (i, j, k) (normal Dir, the high face if `high`)
+// adds to the cell, the donor's value times |u| dt A with the donor chosen by the
+// sign of u without a branch (face velocities of either sign would mispredict one
+// branch per face); written per direction so that every index is known.
+template <int Dir, class Slab>
+KOKKOS_INLINE_FUNCTION double first_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
+                                                    int j, int k, double dt, double area, bool high) {
+  constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
+  const int step = high ? 1 : -1;
+  const int ni = i + step * di, nj = j + step * dj, nk = k + step * dk;
+  const double u = high ? U[Dir](m, ni, nj, nk) : U[Dir](m, i, j, k);
+  const double outward = high ? u : -u;
+  const double q_donor = outward > 0 ? slab(i, j, k, 0, nullptr) : slab(ni, nj, nk, 0, nullptr);
+  const double moved = q_donor * (math::abs(u) * dt) * area;
+  return outward > 0 ? -moved : (outward < 0 ? moved : 0.0);
+}
+
+// Second order: what one face adds to cell (i, j, k) whose outflux distances are d:
+// its own slab out (E42/E43, centroid from d), or the neighbour's slab in, whichever
+// way u points.
+template <int Dir, class Slab>
+KOKKOS_INLINE_FUNCTION double second_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
+                                                     int j, int k, const double* d, double dt, double area,
+                                                     bool high) {
+  constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
+  const int f = 2 * Dir + (high ? 1 : 0);
+  if (d[f] > 0) return -(slab(i, j, k, f, d) * d[f] * area);
+  const int step = high ? 1 : -1;
+  const int ni = i + step * di, nj = j + step * dj, nk = k + step * dk;
+  const double u = high ? U[Dir](m, ni, nj, nk) : U[Dir](m, i, j, k);
+  const double inflow = high ? (u < 0 ? -u * dt : 0.0) : (u > 0 ? u * dt : 0.0);
+  if (!(inflow > 0)) return 0.0;
+  // The neighbour across the face and its slab through the same face.
+  double dn[6];
+  outflux_distances(U, m, ni, nj, nk, dt, dn);
+  return slab(ni, nj, nk, f ^ 1, dn) * dn[f ^ 1] * area;
+}
+
+template <class Slab>
+void advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                      const ConstVectorField4& U, int m, const Slab& slab, const Field4& change) {
+  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
+  const double ax = h[1] * h[2], ay = h[0] * h[2], az = h[0] * h[1];
+  if constexpr (!Slab::second_order) {
+    Kokkos::parallel_for(
+        "mpmice::advection_change", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+          // Faces in the order x-low, x-high, y-low, ... as in the general case.
+          double sum = 0;
+          sum += first_order_face_term<0>(U, m, slab, i, j, k, dt, ax, false);
+          sum += first_order_face_term<0>(U, m, slab, i, j, k, dt, ax, true);
+          sum += first_order_face_term<1>(U, m, slab, i, j, k, dt, ay, false);
+          sum += first_order_face_term<1>(U, m, slab, i, j, k, dt, ay, true);
+          sum += first_order_face_term<2>(U, m, slab, i, j, k, dt, az, false);
+          sum += first_order_face_term<2>(U, m, slab, i, j, k, dt, az, true);
+          change(m, i, j, k) = sum * inv_volume;
+        });
+    return;
+  }
+  Kokkos::parallel_for(
+      "mpmice::advection_change", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double d[6];
+        outflux_distances(U, m, i, j, k, dt, d);
+        double sum = 0;
+        sum += second_order_face_term<0>(U, m, slab, i, j, k, d, dt, ax, false);
+        sum += second_order_face_term<0>(U, m, slab, i, j, k, d, dt, ax, true);
+        sum += second_order_face_term<1>(U, m, slab, i, j, k, d, dt, ay, false);
+        sum += second_order_face_term<1>(U, m, slab, i, j, k, d, dt, ay, true);
+        sum += second_order_face_term<2>(U, m, slab, i, j, k, d, dt, az, false);
+        sum += second_order_face_term<2>(U, m, slab, i, j, k, d, dt, az, true);
+        change(m, i, j, k) = sum * inv_volume;
+      });
+}
+
+template <class Slab>
+void add_face_flux(const IndexBox& faces, int dir, const Kokkos::Array<double, 3> h, double dt,
+                   const ConstVectorField4& U, int m, const Slab& slab, const Field3& flux) {
+  const double area = dir == 0 ? h[1] * h[2] : dir == 1 ? h[0] * h[2] : h[0] * h[1];
+  const int di = dir == 0, dj = dir == 1, dk = dir == 2;
+  Kokkos::parallel_for(
+      "mpmice::add_face_flux", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double u = U[dir](m, i, j, k);
+        double d[6];
+        if (u > 0) {  // donor: the cell below the face, through its high face
+          if (Slab::second_order)
+            outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
+          else
+            d[2 * dir + 1] = u * dt;
+          flux(i, j, k) += slab(i - di, j - dj, k - dk, 2 * dir + 1, d) * d[2 * dir + 1] * area;
+        } else if (u < 0) {  // donor: the cell above, through its low face
+          if (Slab::second_order)
+            outflux_distances(U, m, i, j, k, dt, d);
+          else
+            d[2 * dir] = -u * dt;
+          flux(i, j, k) -= slab(i, j, k, 2 * dir, d) * d[2 * dir] * area;
+        }
+      });
+}
 
 }  // namespace detail
 
@@ -137,37 +251,11 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
                              const ConstField4& mass, bool second_order,
                              const GradientField& grad, const GradientField& mass_grad,
                              const Field4& change) {
-  detail::SlabValue slab{q,  mass, grad, mass_grad, second_order, mass.data() != nullptr,
-                         m,  {h[0], h[1], h[2]}};
-  const double area[3] = {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
-  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
-  const double ax = area[0], ay = area[1], az = area[2];
-  Kokkos::parallel_for(
-      "mpmice::advection_change", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double a[3] = {ax, ay, az};
-        double d[6];
-        outflux_distances(U, m, i, j, k, dt, d);
-        double sum = 0;
-        for (int f = 0; f < 6; ++f) {
-          const int dir = f / 2, side = f & 1;
-          if (d[f] > 0) sum -= slab(i, j, k, f, d) * d[f] * a[dir];
-          // The neighbour across face f and its slab through the same face.
-          const int ni = i + (dir == 0 ? (side ? 1 : -1) : 0);
-          const int nj = j + (dir == 1 ? (side ? 1 : -1) : 0);
-          const int nk = k + (dir == 2 ? (side ? 1 : -1) : 0);
-          const int nf = 2 * dir + (1 - side);
-          const double u_face = U[dir](m, side ? (dir == 0 ? i + 1 : i) : i,
-                                       side ? (dir == 1 ? j + 1 : j) : j,
-                                       side ? (dir == 2 ? k + 1 : k) : k);
-          const double inflow = side ? (u_face < 0 ? -u_face * dt : 0.0) : (u_face > 0 ? u_face * dt : 0.0);
-          if (inflow > 0) {
-            double dn[6];
-            outflux_distances(U, m, ni, nj, nk, dt, dn);
-            sum += slab(ni, nj, nk, nf, dn) * dn[nf] * a[dir];
-          }
-        }
-        change(m, i, j, k) = sum * inv_volume;
-      });
+  detail::with_slab_kind(second_order, mass.data() != nullptr, [&](auto second, auto compatible) {
+    const detail::SlabValue<decltype(second)::value, decltype(compatible)::value> slab{
+        q, mass, grad, mass_grad, m, {h[0], h[1], h[2]}};
+    detail::advection_change(cells, h, dt, U, m, slab, change);
+  });
 }
 
 /// Adds to `flux(i, j, k)` the volume of the non-compatible quantity q (material m)
@@ -178,21 +266,11 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
 inline void add_face_flux(const IndexBox& faces, int dir, const Kokkos::Array<double, 3> h, double dt,
                           const ConstVectorField4& U, int m, const ConstField4& q, bool second_order,
                           const GradientField& grad, const Field3& flux) {
-  detail::SlabValue slab{q, ConstField4(), grad, GradientField(), second_order, false, m, {h[0], h[1], h[2]}};
-  const double area = dir == 0 ? h[1] * h[2] : dir == 1 ? h[0] * h[2] : h[0] * h[1];
-  const int di = dir == 0, dj = dir == 1, dk = dir == 2;
-  Kokkos::parallel_for(
-      "mpmice::add_face_flux", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double u = U[dir](m, i, j, k);
-        double d[6];
-        if (u > 0) {  // donor: the cell below the face, through its high face
-          outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
-          flux(i, j, k) += slab(i - di, j - dj, k - dk, 2 * dir + 1, d) * d[2 * dir + 1] * area;
-        } else if (u < 0) {  // donor: the cell above, through its low face
-          outflux_distances(U, m, i, j, k, dt, d);
-          flux(i, j, k) -= slab(i, j, k, 2 * dir, d) * d[2 * dir] * area;
-        }
-      });
+  detail::with_slab_kind(second_order, false, [&](auto second, auto) {
+    const detail::SlabValue<decltype(second)::value, false> slab{
+        q, ConstField4(), grad, GradientField(), m, {h[0], h[1], h[2]}};
+    detail::add_face_flux(faces, dir, h, dt, U, m, slab, flux);
+  });
 }
 
 }  // namespace mpmice

@@ -39,11 +39,12 @@ struct EquilibrationFailure {
 namespace detail {
 
 // Every material's micro density at pressure `press` and its volume fraction
-// rhoB/rhoM; returns their sum.
+// rhoB/rhoM; returns their sum. N = mats.count, known at compile time.
+template <int N>
 KOKKOS_INLINE_FUNCTION double fractions_at(const MaterialTable& mats, double press, const double* temp,
                                            const double* rho_bulk, double* rho_micro, double* theta) {
   double sum = 0;
-  for (int r = 0; r < mats.count; ++r) {
+  for (int r = 0; r < N; ++r) {
     rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
     theta[r] = rho_bulk[r] / rho_micro[r];
     sum += theta[r];
@@ -52,13 +53,13 @@ KOKKOS_INLINE_FUNCTION double fractions_at(const MaterialTable& mats, double pre
 }
 
 // Residual-corrected Newton (E15); returns false if not converged.
+template <int N>
 KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const double* temp,
                                                const double* rho_bulk, double* rho_micro,
                                                double* theta, double& press) {
-  const int n = mats.count;
   for (int it = 0; it < equilibration_max_iterations; ++it) {
     double A = 0, B = 0, C = 0;
-    for (int r = 0; r < n; ++r) {
+    for (int r = 0; r < N; ++r) {
       const double p_r = eos_pressure(mats.eos[r], rho_micro[r], temp[r]);
       const double dpdrho = eos_dp_drho(mats.eos[r], rho_micro[r], temp[r]);
       const double y = theta[r] * theta[r] / (dpdrho * rho_bulk[r] + small_number);
@@ -69,19 +70,20 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const 
     const double dp = (A - 1.0 - B) / C;
     press += dp;
     if (press < equilibration_tolerance) press = math::abs(dp);
-    const double sum = fractions_at(mats, press, temp, rho_bulk, rho_micro, theta);
+    const double sum = fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
   }
   return false;
 }
 
 // Bisection on 1 - sum_r rhoB_r / rhoM_r(P) over [DBL_EPSILON, 1/DBL_EPSILON].
+template <int N>
 KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, const double* temp,
                                                   const double* rho_bulk, double* rho_micro,
                                                   double* theta, double& press) {
   double lo = DBL_EPSILON, hi = 1.0 / DBL_EPSILON;
   for (int it = 0; it < 200; ++it) {
-    const double sum = fractions_at(mats, press, temp, rho_bulk, rho_micro, theta);
+    const double sum = fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
     // sum theta falls as the pressure rises.
     if (sum > 1.0)
@@ -93,43 +95,39 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, con
   return false;
 }
 
-}  // namespace detail
-
-/// Equilibrate every cell of `cells`; volume `cell_volume` in m^3.
-inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double cell_volume,
-                                                 const MaterialTable& mats,
-                                                 const EquilibrationIn& in,
-                                                 const EquilibrationOut& out) {
+// equilibrate_pressure() for N materials; returns 1 + the linear index of a failing
+// cell, 0 if none.
+template <int N>
+long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
+                            const EquilibrationIn& in, const EquilibrationOut& out) {
   const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
-  long bad_cell = 0;  // 1 + linear index of a failing cell, 0 if none
+  long bad_cell = 0;
   Kokkos::parallel_reduce(
       "mpmice::equilibrate_pressure", cells.policy(),
       KOKKOS_LAMBDA(int i, int j, int k, long& bad) {
-        const int n = mats.count;
-        double temp[max_materials], rho_bulk[max_materials], rho_micro[max_materials],
-            theta[max_materials];
+        double temp[N], rho_bulk[N], rho_micro[N], theta[N];
         // (E14): start from last step's micro densities.
         double tmv = 0;
-        for (int r = 0; r < n; ++r) {
+        for (int r = 0; r < N; ++r) {
           temp[r] = in.temp(r, i, j, k);
           rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
           theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
           tmv += theta[r];
         }
-        for (int r = 0; r < n; ++r) {
+        for (int r = 0; r < N; ++r) {
           theta[r] /= tmv;
           rho_bulk[r] = theta[r] * rho_micro[r];
         }
         double press = in.press(i, j, k);
-        bool ok = detail::equilibrate_newton(mats, temp, rho_bulk, rho_micro, theta, press);
+        bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
         if (!ok) {
           press = in.press(i, j, k);
-          ok = detail::equilibrate_bisection(mats, temp, rho_bulk, rho_micro, theta, press);
+          ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
         }
         bool sane = ok && press > 0.0 && math::isfinite(press);
         // (E16)
         double sum_kappa = 0, tmv_eq = 0;
-        for (int r = 0; r < n; ++r) {
+        for (int r = 0; r < N; ++r) {
           if (!(rho_micro[r] > 0.0) || !(theta[r] >= 0.0)) sane = false;
           const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
           const double v = 1.0 / rho_micro[r];
@@ -150,6 +148,21 @@ inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double c
         }
       },
       Kokkos::Max<long>(bad_cell));
+  return bad_cell;
+}
+
+}  // namespace detail
+
+/// Equilibrate every cell of `cells`; volume `cell_volume` in m^3.
+inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double cell_volume,
+                                                 const MaterialTable& mats,
+                                                 const EquilibrationIn& in,
+                                                 const EquilibrationOut& out) {
+  const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
+  long bad_cell = 0;  // 1 + linear index of a failing cell, 0 if none
+  with_material_count(mats.count, [&](auto n) {
+    bad_cell = detail::equilibrate_pressure_n<decltype(n)::value>(cells, cell_volume, mats, in, out);
+  });
   EquilibrationFailure f;
   if (bad_cell > 0) {
     const long id = bad_cell - 1;

@@ -8,6 +8,55 @@
 
 namespace mpmice {
 
+namespace detail {
+
+// exchange() for N materials, N known at compile time.
+template <int N>
+void exchange_n(const IndexBox& cells, double dt, const MaterialTable& mats, const ConstField4& mass_L,
+                const ConstVectorField4& mom_L, const ConstField4& int_eng_L, const ConstField4& sp_vol,
+                const ConstField4& vol_frac, const ConstField4& temp_old, const VectorField4& vel_me,
+                const Field4& temp_me, const Field4& temp_rate) {
+  // Per pair, the coefficients without the cell's state: K_rs and H_rs / c_v,r.
+  Kokkos::Array<double, N * N> K, H_cv;
+  for (int r = 0; r < N; ++r)
+    for (int s = 0; s < N; ++s) {
+      K[r * N + s] = mats.K(r, s);
+      H_cv[r * N + s] = mats.H(r, s) / mats.eos[r].cv;
+    }
+  Kokkos::Array<double, N> cv;
+  for (int r = 0; r < N; ++r) cv[r] = mats.eos[r].cv;
+  const double inv_dt = 1.0 / dt;
+  Kokkos::parallel_for(
+      "mpmice::exchange", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double u[3 * N], t[N], mass[N], heat_cap[N], dt_v[N], theta[N];
+        for (int r = 0; r < N; ++r) {
+          mass[r] = mass_L(r, i, j, k);
+          heat_cap[r] = mass[r] * cv[r];
+          const double inv_mass = 1.0 / mass[r];
+          for (int d = 0; d < 3; ++d) u[d * N + r] = mom_L[d](r, i, j, k) * inv_mass;
+          t[r] = int_eng_L(r, i, j, k) / heat_cap[r];
+          dt_v[r] = dt * sp_vol(r, i, j, k);
+          theta[r] = vol_frac(r, i, j, k);
+        }
+        if (N > 1) {
+          double beta[N * N];
+          for (int r = 0; r < N; ++r)
+            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * K[r * N + s];
+          implicit_exchange<N, 3>(beta, u, mass);
+          for (int r = 0; r < N; ++r)
+            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * H_cv[r * N + s];
+          implicit_exchange<N, 1>(beta, t, heat_cap);
+        }
+        for (int r = 0; r < N; ++r) {
+          for (int d = 0; d < 3; ++d) vel_me[d](r, i, j, k) = u[d * N + r];
+          temp_me(r, i, j, k) = t[r];
+          temp_rate(r, i, j, k) = (t[r] - temp_old(r, i, j, k)) * inv_dt;
+        }
+      });
+}
+
+}  // namespace detail
+
 /// u_r = PL_r/mL_r, T_r = EL_r/(mL_r c_v,r); momentum: beta_rs = dt v_r theta_s K_rs,
 /// heat: beta_rs = dt v_r theta_s H_rs / c_v,r; out: the exchanged velocity and
 /// temperature and Tdot_r = (T_r - T_r^n)/dt (E31).
@@ -16,36 +65,10 @@ inline void exchange(const IndexBox& cells, double dt, const MaterialTable& mats
                      const ConstField4& int_eng_L, const ConstField4& sp_vol,
                      const ConstField4& vol_frac, const ConstField4& temp_old,
                      const VectorField4& vel_me, const Field4& temp_me, const Field4& temp_rate) {
-  Kokkos::parallel_for(
-      "mpmice::exchange", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const int n = mats.count;
-        double u[3 * max_materials], t[max_materials], mass[max_materials], heat_cap[max_materials];
-        for (int r = 0; r < n; ++r) {
-          mass[r] = mass_L(r, i, j, k);
-          heat_cap[r] = mass[r] * mats.eos[r].cv;
-          for (int d = 0; d < 3; ++d) u[d * max_materials + r] = mom_L[d](r, i, j, k) / mass[r];
-          t[r] = int_eng_L(r, i, j, k) / heat_cap[r];
-        }
-        if (n > 1) {
-          double beta[max_materials * max_materials];
-          for (int r = 0; r < n; ++r)
-            for (int s = 0; s < n; ++s)
-              beta[r * max_materials + s] =
-                  r == s ? 0.0 : dt * sp_vol(r, i, j, k) * vol_frac(s, i, j, k) * mats.K(r, s);
-          implicit_exchange(n, beta, u, 3, mass);
-          for (int r = 0; r < n; ++r)
-            for (int s = 0; s < n; ++s)
-              beta[r * max_materials + s] =
-                  r == s ? 0.0
-                         : dt * sp_vol(r, i, j, k) * vol_frac(s, i, j, k) * mats.H(r, s) / mats.eos[r].cv;
-          implicit_exchange(n, beta, t, 1, heat_cap);
-        }
-        for (int r = 0; r < n; ++r) {
-          for (int d = 0; d < 3; ++d) vel_me[d](r, i, j, k) = u[d * max_materials + r];
-          temp_me(r, i, j, k) = t[r];
-          temp_rate(r, i, j, k) = (t[r] - temp_old(r, i, j, k)) / dt;
-        }
-      });
+  with_material_count(mats.count, [&](auto n) {
+    detail::exchange_n<decltype(n)::value>(cells, dt, mats, mass_L, mom_L, int_eng_L, sp_vol, vol_frac, temp_old,
+                                           vel_me, temp_me, temp_rate);
+  });
 }
 
 }  // namespace mpmice

@@ -6,35 +6,46 @@
 
 namespace mpmice {
 
+namespace detail {
+
+// face_exchange() for N materials, N known at compile time.
+template <int N>
+void face_exchange_n(const IndexBox& faces, int d, double dt, const MaterialTable& mats,
+                     const ConstField4& vol_frac, const ConstField4& sp_vol, const ConstField4& face_vel,
+                     const Field4& face_vel_me) {
+  const int di = d == 0, dj = d == 1, dk = d == 2;
+  Kokkos::parallel_for(
+      "mpmice::face_exchange", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double q[N];
+        for (int r = 0; r < N; ++r) q[r] = face_vel(r, i, j, k);
+        if (N > 1) {
+          const int il = i - di, jl = j - dj, kl = k - dk;
+          double vh[N], thetaf[N], beta[N * N], face_density[N];
+          for (int r = 0; r < N; ++r) {
+            const double vl = sp_vol(r, il, jl, kl), vr = sp_vol(r, i, j, k);
+            vh[r] = 2.0 * vl * vr / (vl + vr);
+            thetaf[r] = 0.5 * (vol_frac(r, il, jl, kl) + vol_frac(r, i, j, k));
+            face_density[r] = thetaf[r] / vh[r];  // makes face_density_r beta_rs symmetric
+          }
+          for (int r = 0; r < N; ++r)
+            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt * vh[r] * thetaf[s] * mats.K(r, s);
+          implicit_exchange<N, 1>(beta, q, face_density);
+        }
+        for (int r = 0; r < N; ++r) face_vel_me(r, i, j, k) = q[r];
+      });
+}
+
+}  // namespace detail
+
 /// beta_rs = dt vh_r thetaf_s K_rs with thetaf the mean volume fraction of the two
 /// cells and vh_r the harmonic mean specific volume; solves the N x N system of
 /// (E19) per face. With one material the velocity is copied.
 inline void face_exchange(const IndexBox& faces, int d, double dt, const MaterialTable& mats,
                           const ConstField4& vol_frac, const ConstField4& sp_vol,
                           const ConstField4& face_vel, const Field4& face_vel_me) {
-  const int di = d == 0, dj = d == 1, dk = d == 2;
-  Kokkos::parallel_for(
-      "mpmice::face_exchange", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const int n = mats.count;
-        double q[max_materials];
-        for (int r = 0; r < n; ++r) q[r] = face_vel(r, i, j, k);
-        if (n > 1) {
-          const int il = i - di, jl = j - dj, kl = k - dk;
-          double vh[max_materials], thetaf[max_materials], beta[max_materials * max_materials],
-              face_density[max_materials];
-          for (int r = 0; r < n; ++r) {
-            const double vl = sp_vol(r, il, jl, kl), vr = sp_vol(r, i, j, k);
-            vh[r] = 2.0 * vl * vr / (vl + vr);
-            thetaf[r] = 0.5 * (vol_frac(r, il, jl, kl) + vol_frac(r, i, j, k));
-            face_density[r] = thetaf[r] / vh[r];  // makes face_density_r beta_rs symmetric
-          }
-          for (int r = 0; r < n; ++r)
-            for (int s = 0; s < n; ++s)
-              beta[r * max_materials + s] = r == s ? 0.0 : dt * vh[r] * thetaf[s] * mats.K(r, s);
-          implicit_exchange(n, beta, q, 1, face_density);
-        }
-        for (int r = 0; r < n; ++r) face_vel_me(r, i, j, k) = q[r];
-      });
+  with_material_count(mats.count, [&](auto n) {
+    detail::face_exchange_n<decltype(n)::value>(faces, d, dt, mats, vol_frac, sp_vol, face_vel, face_vel_me);
+  });
 }
 
 }  // namespace mpmice

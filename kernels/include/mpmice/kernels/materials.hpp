@@ -2,6 +2,8 @@
 /// \file materials.hpp
 /// \brief The material table that cell kernels capture by value: count, equations of
 ///        state, and the exchange coefficients K_rs, H_rs (mpmice-algorithm.md 2).
+#include <type_traits>
+
 #include <mpmice/kernels/eos.hpp>
 #include <mpmice/kernels/types.hpp>
 
@@ -33,5 +35,23 @@ struct MaterialTable {
   KOKKOS_INLINE_FUNCTION double K(int r, int s) const { return momentum_exchange[r * max_materials + s]; }
   KOKKOS_INLINE_FUNCTION double H(int r, int s) const { return heat_exchange[r * max_materials + s]; }
 };
+
+/// Calls f(std::integral_constant<int, N>{}) with N = n, for n in 1..max_materials:
+/// the per-cell kernels are instantiated once per material count.
+template <class F>
+void with_material_count(int n, F&& f) {
+  static_assert(max_materials == 8, "with_material_count lists 1..8");
+  switch (n) {
+    case 1: f(std::integral_constant<int, 1>{}); break;
+    case 2: f(std::integral_constant<int, 2>{}); break;
+    case 3: f(std::integral_constant<int, 3>{}); break;
+    case 4: f(std::integral_constant<int, 4>{}); break;
+    case 5: f(std::integral_constant<int, 5>{}); break;
+    case 6: f(std::integral_constant<int, 6>{}); break;
+    case 7: f(std::integral_constant<int, 7>{}); break;
+    case 8: f(std::integral_constant<int, 8>{}); break;
+    default: break;  // no materials: nothing to do
+  }
+}
 
 }  // namespace mpmice

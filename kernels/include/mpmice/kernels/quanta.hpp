@@ -25,10 +25,12 @@ struct SumQuanta {
   double energy = 0;          ///< J: burned m (c_v T + dh)
 };
 
-/// x rounded to the nearest multiple of q (x itself if q = 0). With q a power of two
-/// the division and the product are exact.
+/// x rounded to the nearest multiple of q (x itself if q = 0). q is a power of two
+/// (quantum_for), so 1/q is exact, x (1/q) equals x/q bit for bit, and the product
+/// back is exact; the reciprocal is the same for every particle of a loop, where the
+/// compiler hoists it out (no division per contribution).
 KOKKOS_INLINE_FUNCTION double on_grid(double x, double q) {
-  return q > 0 ? math::floor(x / q + 0.5) * q : x;
+  return q > 0 ? math::floor(x * (1.0 / q) + 0.5) * q : x;
 }
 
 /// The power of two 2^(e - 40) with 2^e <= bound < 2^(e+1): contributions up to `bound`
