@@ -19,7 +19,7 @@ using GradientField = Kokkos::Array<Field3, 3>;
 
 /// Outflux distances of material m's cell (i,j,k) (E39): d[2*dir] through the low
 /// face, d[2*dir+1] through the high face, m.
-KOKKOS_INLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, int m, int i, int j,
+KOKKOS_FORCEINLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, int m, int i, int j,
                                               int k, double dt, double* d) {
   const double ux_lo = U[0](m, i, j, k), ux_hi = U[0](m, i + 1, j, k);
   const double uy_lo = U[1](m, i, j, k), uy_hi = U[1](m, i, j + 1, k);
@@ -51,13 +51,12 @@ inline double max_outflux_fraction(const IndexBox& cells, const Kokkos::Array<do
   return worst;
 }
 
-/// The limited gradient of q (material m) on `cells` (E41); q must be valid one cell
-/// beyond. With `mass` (compatible fluxes, E43) the limiter sees the vertex values
-/// q_c + (G . dv) m_c / m_vertex, m_vertex from the mass and its limited gradient.
-inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h,
-                             const ConstField4& q, int m, const ConstField4& mass,
-                             const GradientField& mass_grad, const GradientField& grad) {
-  const bool compatible = mass.data() != nullptr;
+namespace detail {
+
+// limited_gradient() with the compatible choice a template argument.
+template <bool Compatible>
+void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h, const ConstField4& q, int m,
+                      const ConstField4& mass, const GradientField& mass_grad, const GradientField& grad) {
   Kokkos::parallel_for(
       "mpmice::limited_gradient", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
         const double qc = q(m, i, j, k);
@@ -70,7 +69,7 @@ inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 
           qmin = nb[f] < qmin ? nb[f] : qmin;
         }
         double mc = 0, gm[3] = {0, 0, 0};
-        if (compatible) {
+        if (Compatible) {
           mc = mass(m, i, j, k);
           for (int d = 0; d < 3; ++d) gm[d] = mass_grad[d](i, j, k);
         }
@@ -82,7 +81,7 @@ inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 
             dq += g[d] * half;
             dm += gm[d] * half;
           }
-          if (compatible) dq *= mc / (mc + dm);
+          if (Compatible) dq *= mc / (mc + dm);
           const double qv = qc + dq;
           vmax = qv > vmax ? qv : vmax;
           vmin = qv < vmin ? qv : vmin;
@@ -98,6 +97,20 @@ inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 
       });
 }
 
+}  // namespace detail
+
+/// The limited gradient of q (material m) on `cells` (E41); q must be valid one cell
+/// beyond. With `mass` (compatible fluxes, E43) the limiter sees the vertex values
+/// q_c + (G . dv) m_c / m_vertex, m_vertex from the mass and its limited gradient.
+inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h,
+                             const ConstField4& q, int m, const ConstField4& mass,
+                             const GradientField& mass_grad, const GradientField& grad) {
+  if (mass.data() != nullptr)
+    detail::limited_gradient<true>(cells, h, q, m, mass, mass_grad, grad);
+  else
+    detail::limited_gradient<false>(cells, h, q, m, mass, mass_grad, grad);
+}
+
 namespace detail {
 
 // The value carried by slab f of cell c (E42/E43); first order when there is no
@@ -111,7 +124,7 @@ struct SlabValue {
   int m;
   double h[3];
 
-  KOKKOS_INLINE_FUNCTION double operator()(int i, int j, int k, int f, const double* d) const {
+  KOKKOS_FORCEINLINE_FUNCTION double operator()(int i, int j, int k, int f, const double* d) const {
     const double qc = q(m, i, j, k);
     if (!SecondOrder) return Compatible ? mass(m, i, j, k) * qc : qc;
     const double mc = Compatible ? mass(m, i, j, k) : 1.0;
@@ -146,7 +159,7 @@ void with_slab_kind(bool second_order, bool compatible, F&& f) {
 // sign of u without a branch (face velocities of either sign would mispredict one
 // branch per face); written per direction so that every index is known.
 template <int Dir, class Slab>
-KOKKOS_INLINE_FUNCTION double first_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
+KOKKOS_FORCEINLINE_FUNCTION double first_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
                                                     int j, int k, double dt, double area, bool high) {
   constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
   const int step = high ? 1 : -1;
@@ -162,7 +175,7 @@ KOKKOS_INLINE_FUNCTION double first_order_face_term(const ConstVectorField4& U, 
 // its own slab out (E42/E43, centroid from d), or the neighbour's slab in, whichever
 // way u points.
 template <int Dir, class Slab>
-KOKKOS_INLINE_FUNCTION double second_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
+KOKKOS_FORCEINLINE_FUNCTION double second_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
                                                      int j, int k, const double* d, double dt, double area,
                                                      bool high) {
   constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;

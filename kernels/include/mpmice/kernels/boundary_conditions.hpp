@@ -48,8 +48,12 @@ inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::Me
       const double h = patch.grid.spacing[d];
       const double value = bc.value[component < 0 ? 0 : component];
       const double mirror_sign = (bc.kind == BcKind::symmetry && component == d) ? -1.0 : 1.0;
+      // A flat loop over the slab: its extent across the boundary is only G, too thin
+      // for the MDRange's tiles (whose innermost extent would be G for d = 2).
+      const int lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], n1 = box.extent(1), n2 = box.extent(2);
       Kokkos::parallel_for(
-          "mpmice::fill_extra_cells", box.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+          "mpmice::fill_extra_cells", Kokkos::RangePolicy<ExecSpace>(0, box.size()), KOKKOS_LAMBDA(long c) {
+            const int k = lo2 + int(c % n2), j = lo1 + int((c / n2) % n1), i = lo0 + int(c / (long(n1) * n2));
             int idx[3] = {i, j, k};
             const int at = idx[d];
             // Layer l = 1, 2, ... away from the boundary; its mirror is interior layer l.

@@ -16,9 +16,9 @@ template <class Shape>
 void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
                     const VectorField4& fint, const SumQuanta& q = SumQuanta()) {
   const double quantum = q.internal_force, mass_quantum = q.mass;
-  for (int d = 0; d < 3; ++d)
-    Kokkos::deep_copy(Kokkos::subview(fint[d], m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 0.0);
-  NodeScatter s_x(fint[0]), s_y(fint[1]), s_z(fint[2]);
+  const NodeSlot slot[3] = {material_slot(fint[0], m), material_slot(fint[1], m), material_slot(fint[2], m)};
+  for (int d = 0; d < 3; ++d) Kokkos::deep_copy(slot[d], 0.0);
+  NodeScatter s_x(slot[0]), s_y(slot[1]), s_z(slot[2]);
   Kokkos::parallel_for(
       "mpmice::internal_force", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
@@ -39,14 +39,14 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
               if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) continue;
               if (mass_quantum > 0 && on_grid(wt.weight(a, b, c) * mp, mass_quantum) == 0.0) continue;
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              ax(m, i, j, k) -= on_grid(vol * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]), quantum);
-              ay(m, i, j, k) -= on_grid(vol * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]), quantum);
-              az(m, i, j, k) -= on_grid(vol * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]), quantum);
+              ax(i, j, k) -= on_grid(vol * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]), quantum);
+              ay(i, j, k) -= on_grid(vol * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]), quantum);
+              az(i, j, k) -= on_grid(vol * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]), quantum);
             }
       });
-  contribute(fint[0], s_x);
-  contribute(fint[1], s_y);
-  contribute(fint[2], s_z);
+  contribute(slot[0], s_x);
+  contribute(slot[1], s_y);
+  contribute(slot[2], s_z);
 }
 
 /// A bound on any one contribution of `internal_force`: max_p V_p |sigma_p + (pp_p - q_p)

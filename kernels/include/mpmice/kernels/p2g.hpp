@@ -23,11 +23,20 @@ struct NodeSums {
   VectorField4 fext;///< sum S f_ext,p, N
 };
 
-/// The one scatter: every node field gets its particles' contributions summed in.
-using NodeScatter = Kokkos::Experimental::ScatterView<double****, Kokkos::LayoutRight, ExecSpace>;
+/// One material's nodes of a node field (slot m of the (m, i, j, k) array), contiguous:
+/// a particle loop scatters into its own material's slot only.
+using NodeSlot = Kokkos::View<double***, Kokkos::LayoutRight, MemSpace>;
 
-/// Add what a scatter gathered into its node field.
-inline void contribute(Field4 dest, const NodeScatter& scatter) {
+inline NodeSlot material_slot(const Field4& f, int m) {
+  return Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL);
+}
+
+/// The one scatter: every node field gets its particles' contributions summed in. On
+/// OpenMP each thread adds into its own copy of the slot, summed after the loop.
+using NodeScatter = Kokkos::Experimental::ScatterView<double***, Kokkos::LayoutRight, ExecSpace>;
+
+/// Add what a scatter gathered into its node slot.
+inline void contribute(NodeSlot dest, const NodeScatter& scatter) {
   Kokkos::Experimental::contribute(dest, scatter);
 }
 
@@ -37,13 +46,14 @@ inline void contribute(Field4 dest, const NodeScatter& scatter) {
 template <class Shape>
 void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
          const SumQuanta& q = SumQuanta()) {
-  Kokkos::deep_copy(Kokkos::subview(sums.mass, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
-  Kokkos::deep_copy(Kokkos::subview(sums.volume, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 1e-200);
-  Field4 zeroed[7] = {sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.fext[0], sums.fext[1], sums.fext[2]};
-  for (auto& f : zeroed) Kokkos::deep_copy(Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL), 0.0);
-
-  NodeScatter s_mass(sums.mass), s_px(sums.mom[0]), s_py(sums.mom[1]), s_pz(sums.mom[2]),
-      s_heat(sums.heat), s_vol(sums.volume), s_fx(sums.fext[0]), s_fy(sums.fext[1]), s_fz(sums.fext[2]);
+  const NodeSlot slot[9] = {material_slot(sums.mass, m),    material_slot(sums.mom[0], m),
+                            material_slot(sums.mom[1], m),  material_slot(sums.mom[2], m),
+                            material_slot(sums.heat, m),    material_slot(sums.volume, m),
+                            material_slot(sums.fext[0], m), material_slot(sums.fext[1], m),
+                            material_slot(sums.fext[2], m)};
+  for (int f = 0; f < 9; ++f) Kokkos::deep_copy(slot[f], f == 0 || f == 5 ? 1e-200 : 0.0);
+  NodeScatter s_mass(slot[0]), s_px(slot[1]), s_py(slot[2]), s_pz(slot[3]), s_heat(slot[4]), s_vol(slot[5]),
+      s_fx(slot[6]), s_fy(slot[7]), s_fz(slot[8]);
   Kokkos::parallel_for(
       "mpmice::p2g", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
@@ -74,26 +84,19 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
               const double ms = on_grid(S * mp, q.mass);
               if (ms == 0.0) continue;
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              a_mass(m, i, j, k) += ms;
-              a_px(m, i, j, k) += on_grid(S * px, q.momentum);
-              a_py(m, i, j, k) += on_grid(S * py, q.momentum);
-              a_pz(m, i, j, k) += on_grid(S * pz, q.momentum);
-              a_heat(m, i, j, k) += on_grid(S * mt, q.heat);
-              a_vol(m, i, j, k) += on_grid(S * vp, q.volume);
-              a_fx(m, i, j, k) += on_grid(S * fx, q.external_force);
-              a_fy(m, i, j, k) += on_grid(S * fy, q.external_force);
-              a_fz(m, i, j, k) += on_grid(S * fz, q.external_force);
+              a_mass(i, j, k) += ms;
+              a_px(i, j, k) += on_grid(S * px, q.momentum);
+              a_py(i, j, k) += on_grid(S * py, q.momentum);
+              a_pz(i, j, k) += on_grid(S * pz, q.momentum);
+              a_heat(i, j, k) += on_grid(S * mt, q.heat);
+              a_vol(i, j, k) += on_grid(S * vp, q.volume);
+              a_fx(i, j, k) += on_grid(S * fx, q.external_force);
+              a_fy(i, j, k) += on_grid(S * fy, q.external_force);
+              a_fz(i, j, k) += on_grid(S * fz, q.external_force);
             }
       });
-  contribute(sums.mass, s_mass);
-  contribute(sums.mom[0], s_px);
-  contribute(sums.mom[1], s_py);
-  contribute(sums.mom[2], s_pz);
-  contribute(sums.heat, s_heat);
-  contribute(sums.volume, s_vol);
-  contribute(sums.fext[0], s_fx);
-  contribute(sums.fext[1], s_fy);
-  contribute(sums.fext[2], s_fz);
+  const NodeScatter* scatters[9] = {&s_mass, &s_px, &s_py, &s_pz, &s_heat, &s_vol, &s_fx, &s_fy, &s_fz};
+  for (int f = 0; f < 9; ++f) contribute(slot[f], *scatters[f]);
 }
 
 /// Node velocity v = sum S m v / m and temperature T = sum S m T / m (E12) on `nodes`.
