@@ -2,7 +2,7 @@
 /// \file equilibrate_pressure.hpp
 /// \brief Step 3: the single pressure at which the materials of a cell fill it,
 ///        sum_r theta_r(p) = 1 (E14-E16), by Newton from last step's pressure with a
-///        bisection fallback.
+///        bisection fallback; in closed form when every material is an ideal gas.
 #include <cfloat>
 
 #include <mpmice/kernels/constants.hpp>
@@ -96,8 +96,11 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, con
 }
 
 // equilibrate_pressure() for N materials; returns 1 + the linear index of a failing
-// cell, 0 if none.
-template <int N>
+// cell, 0 if none. With only ideal gases (AllIdeal) sum theta_r(p) = 1 has the exact
+// root p = sum_r rhoB_r (gamma_r - 1) c_v,r T_r (theta_r = rhoB_r (gamma_r - 1) c_v,r T_r / p,
+// E48), which the Newton iteration would reach to its tolerance (100 ulps) after a
+// chain of dependent divisions.
+template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
@@ -119,10 +122,17 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
           rho_bulk[r] = theta[r] * rho_micro[r];
         }
         double press = in.press(i, j, k);
-        bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-        if (!ok) {
-          press = in.press(i, j, k);
-          ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+        bool ok = true;
+        if (AllIdeal) {
+          press = 0;
+          for (int r = 0; r < N; ++r) press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
+          fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
+        } else {
+          ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+          if (!ok) {
+            press = in.press(i, j, k);
+            ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+          }
         }
         bool sane = ok && press > 0.0 && math::isfinite(press);
         // (E16)
@@ -160,8 +170,12 @@ inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double c
                                                  const EquilibrationOut& out) {
   const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
   long bad_cell = 0;  // 1 + linear index of a failing cell, 0 if none
+  bool all_ideal = true;
+  for (int r = 0; r < mats.count; ++r) all_ideal = all_ideal && mats.eos[r].type == EosType::ideal_gas;
   with_material_count(mats.count, [&](auto n) {
-    bad_cell = detail::equilibrate_pressure_n<decltype(n)::value>(cells, cell_volume, mats, in, out);
+    constexpr int N = decltype(n)::value;
+    bad_cell = all_ideal ? detail::equilibrate_pressure_n<N, true>(cells, cell_volume, mats, in, out)
+                         : detail::equilibrate_pressure_n<N, false>(cells, cell_volume, mats, in, out);
   });
   EquilibrationFailure f;
   if (bad_cell > 0) {
