@@ -16,9 +16,10 @@ template <class Shape>
 void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
                     const VectorField4& fint, const SumQuanta& q = SumQuanta()) {
   const double quantum = q.internal_force, mass_quantum = q.mass;
-  const NodeSlot slot[3] = {material_slot(fint[0], m), material_slot(fint[1], m), material_slot(fint[2], m)};
-  for (int d = 0; d < 3; ++d) Kokkos::deep_copy(slot[d], 0.0);
-  NodeScatter s_x(slot[0]), s_y(slot[1]), s_z(slot[2]);
+  const Kokkos::Array<NodeSlot, 3> slot = {material_slot(fint[0], m), material_slot(fint[1], m),
+                                            material_slot(fint[2], m)};
+  const NodeBlock block = node_block("mpmice::internal_force", slot[0], 3);
+  const NodeScatter scatter(block);
   Kokkos::parallel_for(
       "mpmice::internal_force", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
@@ -28,9 +29,7 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
         const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
         for (int d = 0; d < 3; ++d) stress(d, d) += iso;
         const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
-        auto ax = s_x.access();
-        auto ay = s_y.access();
-        auto az = s_z.access();
+        auto node = scatter.access();
         for (int a = 0; a < Shape::nodes; ++a)
           for (int b = 0; b < Shape::nodes; ++b)
             for (int c = 0; c < Shape::nodes; ++c) {
@@ -39,14 +38,12 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
               if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) continue;
               if (mass_quantum > 0 && on_grid(wt.weight(a, b, c) * mp, mass_quantum) == 0.0) continue;
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              ax(i, j, k) -= on_grid(vol * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]), quantum);
-              ay(i, j, k) -= on_grid(vol * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]), quantum);
-              az(i, j, k) -= on_grid(vol * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]), quantum);
+              node(i, j, k, 0) -= on_grid(vol * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]), quantum);
+              node(i, j, k, 1) -= on_grid(vol * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]), quantum);
+              node(i, j, k, 2) -= on_grid(vol * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]), quantum);
             }
       });
-  contribute(slot[0], s_x);
-  contribute(slot[1], s_y);
-  contribute(slot[2], s_z);
+  unpack_block<3>(block, scatter, slot, {0, 0, 0});
 }
 
 /// A bound on any one contribution of `internal_force`: max_p V_p |sigma_p + (pp_p - q_p)

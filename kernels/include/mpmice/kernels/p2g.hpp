@@ -4,8 +4,10 @@
 ///        (E12), and the node velocity and temperature from them.
 ///
 /// The scatter: Kokkos ScatterView (duplicated per thread on OpenMP, atomic on GPUs)
-/// is the one way particles add into nodes (`scatter_add` below); the benchmark issue
+/// is the one way particles add into nodes (`NodeScatter` below); bench_scatter.cpp
 /// measures it against the alternatives.
+#include <string>
+
 #include <Kokkos_ScatterView.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
@@ -31,13 +33,30 @@ inline NodeSlot material_slot(const Field4& f, int m) {
   return Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL);
 }
 
-/// The one scatter: every node field gets its particles' contributions summed in. On
-/// OpenMP each thread adds into its own copy of the slot, summed after the loop.
-using NodeScatter = Kokkos::Experimental::ScatterView<double***, Kokkos::LayoutRight, ExecSpace>;
+/// The sums of one particle loop, a node's F fields side by side: (i, j, k, f). A
+/// particle computes a node's index once for all its fields; the block is unpacked into
+/// the fields' slots after the loop.
+using NodeBlock = Kokkos::View<double****, Kokkos::LayoutRight, MemSpace>;
 
-/// Add what a scatter gathered into its node slot.
-inline void contribute(NodeSlot dest, const NodeScatter& scatter) {
-  Kokkos::Experimental::contribute(dest, scatter);
+/// The one scatter: a particle loop adds into a NodeBlock through it. On OpenMP each
+/// thread adds into its own copy, summed after the loop (docs/performance.md).
+using NodeScatter = Kokkos::Experimental::ScatterView<double****, Kokkos::LayoutRight, ExecSpace>;
+
+/// A zeroed block of `fields` fields over the nodes of `like`.
+inline NodeBlock node_block(const char* label, const NodeSlot& like, int fields) {
+  return NodeBlock(std::string(label), like.extent(0), like.extent(1), like.extent(2), std::size_t(fields));
+}
+
+/// Add what the scatter gathered into `block`, then dest[f] = start[f] + block(., f).
+template <int F>
+void unpack_block(NodeBlock block, const NodeScatter& scatter, const Kokkos::Array<NodeSlot, F>& dest,
+                  const Kokkos::Array<double, F>& start) {
+  Kokkos::Experimental::contribute(block, scatter);
+  const IndexBox nodes{{0, 0, 0}, {int(block.extent(0)), int(block.extent(1)), int(block.extent(2))}};
+  Kokkos::parallel_for(
+      "mpmice::unpack_block", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        for (int f = 0; f < F; ++f) dest[f](i, j, k) = start[f] + block(i, j, k, f);
+      });
 }
 
 /// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
@@ -46,14 +65,14 @@ inline void contribute(NodeSlot dest, const NodeScatter& scatter) {
 template <class Shape>
 void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
          const SumQuanta& q = SumQuanta()) {
-  const NodeSlot slot[9] = {material_slot(sums.mass, m),    material_slot(sums.mom[0], m),
-                            material_slot(sums.mom[1], m),  material_slot(sums.mom[2], m),
-                            material_slot(sums.heat, m),    material_slot(sums.volume, m),
-                            material_slot(sums.fext[0], m), material_slot(sums.fext[1], m),
-                            material_slot(sums.fext[2], m)};
-  for (int f = 0; f < 9; ++f) Kokkos::deep_copy(slot[f], f == 0 || f == 5 ? 1e-200 : 0.0);
-  NodeScatter s_mass(slot[0]), s_px(slot[1]), s_py(slot[2]), s_pz(slot[3]), s_heat(slot[4]), s_vol(slot[5]),
-      s_fx(slot[6]), s_fy(slot[7]), s_fz(slot[8]);
+  // Fields: mass, momentum (3), m T, volume, external force (3); mass and volume start
+  // at 1e-200 so that no node divides by zero.
+  const Kokkos::Array<NodeSlot, 9> slot = {
+      material_slot(sums.mass, m),    material_slot(sums.mom[0], m),  material_slot(sums.mom[1], m),
+      material_slot(sums.mom[2], m),  material_slot(sums.heat, m),    material_slot(sums.volume, m),
+      material_slot(sums.fext[0], m), material_slot(sums.fext[1], m), material_slot(sums.fext[2], m)};
+  const NodeBlock block = node_block("mpmice::p2g", slot[0], 9);
+  const NodeScatter scatter(block);
   Kokkos::parallel_for(
       "mpmice::p2g", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
@@ -66,15 +85,7 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
         const double mt = mp * data(p, column(ParticleField::temperature));
         const double fx = data(p, column(ParticleField::fext_x)), fy = data(p, column(ParticleField::fext_y)),
                      fz = data(p, column(ParticleField::fext_z));
-        auto a_mass = s_mass.access();
-        auto a_px = s_px.access();
-        auto a_py = s_py.access();
-        auto a_pz = s_pz.access();
-        auto a_heat = s_heat.access();
-        auto a_vol = s_vol.access();
-        auto a_fx = s_fx.access();
-        auto a_fy = s_fy.access();
-        auto a_fz = s_fz.access();
+        auto node = scatter.access();
         for (int a = 0; a < Shape::nodes; ++a)
           for (int b = 0; b < Shape::nodes; ++b)
             for (int c = 0; c < Shape::nodes; ++c) {
@@ -84,19 +95,18 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
               const double ms = on_grid(S * mp, q.mass);
               if (ms == 0.0) continue;
               const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              a_mass(i, j, k) += ms;
-              a_px(i, j, k) += on_grid(S * px, q.momentum);
-              a_py(i, j, k) += on_grid(S * py, q.momentum);
-              a_pz(i, j, k) += on_grid(S * pz, q.momentum);
-              a_heat(i, j, k) += on_grid(S * mt, q.heat);
-              a_vol(i, j, k) += on_grid(S * vp, q.volume);
-              a_fx(i, j, k) += on_grid(S * fx, q.external_force);
-              a_fy(i, j, k) += on_grid(S * fy, q.external_force);
-              a_fz(i, j, k) += on_grid(S * fz, q.external_force);
+              node(i, j, k, 0) += ms;
+              node(i, j, k, 1) += on_grid(S * px, q.momentum);
+              node(i, j, k, 2) += on_grid(S * py, q.momentum);
+              node(i, j, k, 3) += on_grid(S * pz, q.momentum);
+              node(i, j, k, 4) += on_grid(S * mt, q.heat);
+              node(i, j, k, 5) += on_grid(S * vp, q.volume);
+              node(i, j, k, 6) += on_grid(S * fx, q.external_force);
+              node(i, j, k, 7) += on_grid(S * fy, q.external_force);
+              node(i, j, k, 8) += on_grid(S * fz, q.external_force);
             }
       });
-  const NodeScatter* scatters[9] = {&s_mass, &s_px, &s_py, &s_pz, &s_heat, &s_vol, &s_fx, &s_fy, &s_fz};
-  for (int f = 0; f < 9; ++f) contribute(slot[f], *scatters[f]);
+  unpack_block<9>(block, scatter, slot, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
 }
 
 /// Node velocity v = sum S m v / m and temperature T = sum S m T / m (E12) on `nodes`.
