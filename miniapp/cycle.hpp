@@ -61,6 +61,7 @@ class Cycle {
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;
   Field4 m_adv_mass, m_adv_q, m_ke;
+  FaceFluxes m_face_flux;  // scratch of advection_change
   Field3 m_burn_cell_mass;  // burn_particles' scratch: the reactant's particle mass per cell
 };
 

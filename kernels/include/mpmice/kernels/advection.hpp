@@ -8,9 +8,11 @@
 ///
 /// Uintah's second-order advector is the reference for the slab centroids and the
 /// compatible slab value m_slab q_c + m_c (G . r).
+#include <string>
 #include <type_traits>
 
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/math.hpp>
 
 namespace mpmice {
@@ -154,136 +156,114 @@ void with_slab_kind(bool second_order, bool compatible, F&& f) {
   }
 }
 
-// First order: what one face of cell (i, j, k) (normal Dir, the high face if `high`)
-// adds to the cell, the donor's value times |u| dt A with the donor chosen by the
-// sign of u without a branch (face velocities of either sign would mispredict one
-// branch per face); written per direction so that every index is known.
+// Fluxes through the faces of direction Dir in `faces` (face (i, j, k) between cells
+// (i, j, k) - e_Dir and (i, j, k)): the donor's slab through the face, positive along
+// +Dir, the slab value times d A as (E40, E42, E43) give it.
 template <int Dir, class Slab>
-KOKKOS_FORCEINLINE_FUNCTION double first_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
-                                                    int j, int k, double dt, double area, bool high) {
+void face_fluxes(const IndexBox& faces, double dt, double area, const ConstVectorField4& U, int m, const Slab& slab,
+                 const Field3& flux) {
   constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
-  const int step = high ? 1 : -1;
-  const int ni = i + step * di, nj = j + step * dj, nk = k + step * dk;
-  const double u = high ? U[Dir](m, ni, nj, nk) : U[Dir](m, i, j, k);
-  const double outward = high ? u : -u;
-  const double q_donor = outward > 0 ? slab(i, j, k, 0, nullptr) : slab(ni, nj, nk, 0, nullptr);
-  const double moved = q_donor * (math::abs(u) * dt) * area;
-  return outward > 0 ? -moved : (outward < 0 ? moved : 0.0);
-}
-
-// Second order: what one face adds to cell (i, j, k) whose outflux distances are d:
-// its own slab out (E42/E43, centroid from d), or the neighbour's slab in, whichever
-// way u points.
-template <int Dir, class Slab>
-KOKKOS_FORCEINLINE_FUNCTION double second_order_face_term(const ConstVectorField4& U, int m, const Slab& slab, int i,
-                                                     int j, int k, const double* d, double dt, double area,
-                                                     bool high) {
-  constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
-  const int f = 2 * Dir + (high ? 1 : 0);
-  if (d[f] > 0) return -(slab(i, j, k, f, d) * d[f] * area);
-  const int step = high ? 1 : -1;
-  const int ni = i + step * di, nj = j + step * dj, nk = k + step * dk;
-  const double u = high ? U[Dir](m, ni, nj, nk) : U[Dir](m, i, j, k);
-  const double inflow = high ? (u < 0 ? -u * dt : 0.0) : (u > 0 ? u * dt : 0.0);
-  if (!(inflow > 0)) return 0.0;
-  // The neighbour across the face and its slab through the same face.
-  double dn[6];
-  outflux_distances(U, m, ni, nj, nk, dt, dn);
-  return slab(ni, nj, nk, f ^ 1, dn) * dn[f ^ 1] * area;
-}
-
-template <class Slab>
-void advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
-                      const ConstVectorField4& U, int m, const Slab& slab, const Field4& change) {
-  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
-  const double ax = h[1] * h[2], ay = h[0] * h[2], az = h[0] * h[1];
-  if constexpr (!Slab::second_order) {
-    Kokkos::parallel_for(
-        "mpmice::advection_change", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-          // Faces in the order x-low, x-high, y-low, ... as in the general case.
-          double sum = 0;
-          sum += first_order_face_term<0>(U, m, slab, i, j, k, dt, ax, false);
-          sum += first_order_face_term<0>(U, m, slab, i, j, k, dt, ax, true);
-          sum += first_order_face_term<1>(U, m, slab, i, j, k, dt, ay, false);
-          sum += first_order_face_term<1>(U, m, slab, i, j, k, dt, ay, true);
-          sum += first_order_face_term<2>(U, m, slab, i, j, k, dt, az, false);
-          sum += first_order_face_term<2>(U, m, slab, i, j, k, dt, az, true);
-          change(m, i, j, k) = sum * inv_volume;
-        });
-    return;
-  }
+  constexpr int low = 2 * Dir, high = 2 * Dir + 1;  // the donor's face: below the face, its high one
   Kokkos::parallel_for(
-      "mpmice::advection_change", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double d[6];
-        outflux_distances(U, m, i, j, k, dt, d);
-        double sum = 0;
-        sum += second_order_face_term<0>(U, m, slab, i, j, k, d, dt, ax, false);
-        sum += second_order_face_term<0>(U, m, slab, i, j, k, d, dt, ax, true);
-        sum += second_order_face_term<1>(U, m, slab, i, j, k, d, dt, ay, false);
-        sum += second_order_face_term<1>(U, m, slab, i, j, k, d, dt, ay, true);
-        sum += second_order_face_term<2>(U, m, slab, i, j, k, d, dt, az, false);
-        sum += second_order_face_term<2>(U, m, slab, i, j, k, d, dt, az, true);
-        change(m, i, j, k) = sum * inv_volume;
-      });
-}
-
-template <class Slab>
-void add_face_flux(const IndexBox& faces, int dir, const Kokkos::Array<double, 3> h, double dt,
-                   const ConstVectorField4& U, int m, const Slab& slab, const Field3& flux) {
-  const double area = dir == 0 ? h[1] * h[2] : dir == 1 ? h[0] * h[2] : h[0] * h[1];
-  const int di = dir == 0, dj = dir == 1, dk = dir == 2;
-  Kokkos::parallel_for(
-      "mpmice::add_face_flux", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double u = U[dir](m, i, j, k);
-        double d[6];
-        if (u > 0) {  // donor: the cell below the face, through its high face
-          if (Slab::second_order)
+      "mpmice::face_fluxes", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        const double u = U[Dir](m, i, j, k);
+        if constexpr (!Slab::second_order) {
+          // The donor chosen by the sign of u without a branch: face velocities of either
+          // sign would mispredict one branch per face.
+          const double q_donor = u > 0 ? slab(i - di, j - dj, k - dk, high, nullptr) : slab(i, j, k, low, nullptr);
+          const double moved = q_donor * (math::abs(u) * dt) * area;
+          flux(i, j, k) = u > 0 ? moved : (u < 0 ? -moved : 0.0);
+        } else {
+          double d[6];
+          if (u > 0) {  // donor: the cell below the face, through its high face
             outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
-          else
-            d[2 * dir + 1] = u * dt;
-          flux(i, j, k) += slab(i - di, j - dj, k - dk, 2 * dir + 1, d) * d[2 * dir + 1] * area;
-        } else if (u < 0) {  // donor: the cell above, through its low face
-          if (Slab::second_order)
+            flux(i, j, k) = slab(i - di, j - dj, k - dk, high, d) * d[high] * area;
+          } else if (u < 0) {  // donor: the cell above, through its low face
             outflux_distances(U, m, i, j, k, dt, d);
-          else
-            d[2 * dir] = -u * dt;
-          flux(i, j, k) -= slab(i, j, k, 2 * dir, d) * d[2 * dir] * area;
+            flux(i, j, k) = -(slab(i, j, k, low, d) * d[low] * area);
+          } else {
+            flux(i, j, k) = 0.0;
+          }
         }
       });
 }
 
 }  // namespace detail
 
-/// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43). Non-compatible: q
-/// holds cell totals (mass, volume fraction). Compatible (`mass` given): q holds the
-/// specific value and Q = mass q. `grad`, `mass_grad` are limited gradients (ignored
-/// for first order); face velocities U must be valid on the faces of the cells and
-/// of their neighbours.
+/// What crosses the faces of the cells over the step, one Field3 per direction d on
+/// d-face arrays: flux[d](i, j, k) through the low d-face of cell (i, j, k), positive
+/// along +d (m^3 for q a volume fraction, kg m/s for momentum, ...).
+using FaceFluxes = Kokkos::Array<Field3, 3>;
+
+inline FaceFluxes make_face_fluxes(const std::string& label, const Patch& patch) {
+  return {make_field(label + "_x", patch, Location::x_face), make_field(label + "_y", patch, Location::y_face),
+          make_field(label + "_z", patch, Location::z_face)};
+}
+
+/// The amount of Q (material m) through every face of `cells` (E40, E42, E43), each
+/// face once: the donor cell's slab, positive along +d. Non-compatible: q holds cell
+/// totals (mass, volume fraction). Compatible (`mass` given): q holds the specific value
+/// and Q = mass q. `grad`, `mass_grad` are limited gradients (ignored for first order);
+/// face velocities U must be valid on the faces of the cells and of their neighbours.
+inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                        const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
+                        bool second_order, const GradientField& grad, const GradientField& mass_grad,
+                        const FaceFluxes& flux) {
+  const double area[3] = {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
+  detail::with_slab_kind(second_order, mass.data() != nullptr, [&](auto second, auto compatible) {
+    const detail::SlabValue<decltype(second)::value, decltype(compatible)::value> slab{
+        q, mass, grad, mass_grad, m, {h[0], h[1], h[2]}};
+    detail::face_fluxes<0>(faces_of(cells, 0), dt, area[0], U, m, slab, flux[0]);
+    detail::face_fluxes<1>(faces_of(cells, 1), dt, area[1], U, m, slab, flux[1]);
+    detail::face_fluxes<2>(faces_of(cells, 2), dt, area[2], U, m, slab, flux[2]);
+  });
+}
+
+/// Adv[Q] = (what comes in - what goes out) / V from the fluxes through a cell's six
+/// faces, written to `change(m, ...)` on `cells`.
+inline void flux_difference(const IndexBox& cells, double inv_volume, const FaceFluxes& flux, int m,
+                            const Field4& change) {
+  const Field3 fx = flux[0], fy = flux[1], fz = flux[2];
+  Kokkos::parallel_for(
+      "mpmice::flux_difference", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        // Faces in the order x-low, x-high, y-low, ...
+        double sum = 0;
+        sum += fx(i, j, k);
+        sum += -fx(i + 1, j, k);
+        sum += fy(i, j, k);
+        sum += -fy(i, j + 1, k);
+        sum += fz(i, j, k);
+        sum += -fz(i, j, k + 1);
+        change(m, i, j, k) = sum * inv_volume;
+      });
+}
+
+/// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43): face_fluxes, then
+/// flux_difference. `scratch` holds the fluxes (make_face_fluxes; allocated here if
+/// empty).
 inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                              const ConstVectorField4& U, int m, const ConstField4& q,
                              const ConstField4& mass, bool second_order,
                              const GradientField& grad, const GradientField& mass_grad,
-                             const Field4& change) {
-  detail::with_slab_kind(second_order, mass.data() != nullptr, [&](auto second, auto compatible) {
-    const detail::SlabValue<decltype(second)::value, decltype(compatible)::value> slab{
-        q, mass, grad, mass_grad, m, {h[0], h[1], h[2]}};
-    detail::advection_change(cells, h, dt, U, m, slab, change);
-  });
+                             const Field4& change, FaceFluxes scratch = FaceFluxes()) {
+  if (scratch[0].data() == nullptr) {
+    // Face arrays as large as the change's cell arrays plus one along each direction.
+    for (int d = 0; d < 3; ++d)
+      scratch[d] = Field3("advection_flux", change.extent(1) + (d == 0), change.extent(2) + (d == 1),
+                          change.extent(3) + (d == 2));
+  }
+  face_fluxes(cells, h, dt, U, m, q, mass, second_order, grad, mass_grad, scratch);
+  flux_difference(cells, 1.0 / (h[0] * h[1] * h[2]), scratch, m, change);
 }
 
-/// Adds to `flux(i, j, k)` the volume of the non-compatible quantity q (material m)
-/// that crosses face (i, j, k) with normal `dir` over the step, positive along +dir
-/// (m^3 for q a volume fraction): the donor cell's slab (E40, E42), the same value
-/// `advection_change` moves, so minus the sum over a cell's faces of these fluxes is
-/// V Adv[q] of that cell to round-off.
-inline void add_face_flux(const IndexBox& faces, int dir, const Kokkos::Array<double, 3> h, double dt,
-                          const ConstVectorField4& U, int m, const ConstField4& q, bool second_order,
-                          const GradientField& grad, const Field3& flux) {
-  detail::with_slab_kind(second_order, false, [&](auto second, auto) {
-    const detail::SlabValue<decltype(second)::value, false> slab{
-        q, ConstField4(), grad, GradientField(), m, {h[0], h[1], h[2]}};
-    detail::add_face_flux(faces, dir, h, dt, U, m, slab, flux);
-  });
+/// to[d] += from[d] on the faces of `cells` (the fluids' volume fluxes summed over them).
+inline void add_face_fluxes(const IndexBox& cells, const FaceFluxes& from, const FaceFluxes& to) {
+  for (int d = 0; d < 3; ++d) {
+    const Field3 src = from[d], dst = to[d];
+    Kokkos::parallel_for(
+        "mpmice::add_face_fluxes", faces_of(cells, d).policy(),
+        KOKKOS_LAMBDA(int i, int j, int k) { dst(i, j, k) += src(i, j, k); });
+  }
 }
 
 }  // namespace mpmice

@@ -17,10 +17,6 @@ inline void face_pressure(const IndexBox& faces, int d, const ConstField3& press
 }
 
 /// Faces of the owned cells with normal d (both sides of every owned cell).
-inline IndexBox faces_of_owned_cells(const Patch& patch, int d) {
-  IndexBox b = patch.owned_cells();
-  b.hi[d] += 1;
-  return b;
-}
+inline IndexBox faces_of_owned_cells(const Patch& patch, int d) { return faces_of(patch.owned_cells(), d); }
 
 }  // namespace mpmice

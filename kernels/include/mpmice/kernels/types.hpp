@@ -57,4 +57,11 @@ struct IndexBox {
   }
 };
 
+/// The faces of `cells` with normal d: one more than the cells along d.
+inline IndexBox faces_of(const IndexBox& cells, int d) {
+  IndexBox faces = cells;
+  faces.hi[d] += 1;
+  return faces;
+}
+
 }  // namespace mpmice
