@@ -21,7 +21,7 @@ namespace mpmice {
 /// Inputs of `pressure_work_heat` (all from the current step).
 struct PressureWorkInputs {
   Kokkos::Array<ConstField3, 3> press_face;  ///< p^f (E21) on the faces of the cells
-  Kokkos::Array<ConstField3, 3> face_flux;   ///< Phi^f: the fluids' volume flux (add_face_flux)
+  Kokkos::Array<ConstField3, 3> face_flux;   ///< Phi^f: the fluids' volume flux (face_fluxes)
   ConstField4 vol_frac;                      ///< theta_r (E16)
   ConstField3 press;                         ///< p^{n+1} (E20)
   ConstField4 work;                          ///< the fluids' energy sources W_r (E23)
@@ -42,7 +42,7 @@ struct PressureWorkInputs {
 ///            - sum_ICE W_r                            what (E23) and mass_exchange_work charged
 ///            - sum_r [mL_r |u_r^ME|^2 - |PL_r - Q_r|^2 / mL_r] / 2
 ///                                                     kinetic energy from the kick and exchange
-/// with Phi^f the fluids' volume flux through a face over the step (`add_face_flux`: the
+/// with Phi^f the fluids' volume flux through a face over the step (`face_fluxes`: the
 /// slabs of theta that Adv[theta] of (E20) moves, summed over the ICE materials) and Q_r
 /// the pressure part of the kick (E22) of an ICE material (0 for a solid: the push pays
 /// for a solid's kick, counting it again would charge the fluids twice). Over a closed
