@@ -298,7 +298,7 @@ void Cycle::add_pressure_steps() {
   const int n = mats.count;
   const BoundaryInput bc = pb.input.boundary;
   const double V = p.grid.cell_volume();
-  const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
+  const Kokkos::Array<double, 3> h = p.grid.spacing_array();
   const bool second_order = pb.input.ice.second_order;
   const auto gravity = pb.input.ice.gravity;
   const IndexBox owned = p.owned_cells(), with_extra = p.cells_with_extra();
@@ -596,7 +596,7 @@ void Cycle::add_lagrangian_steps() {
       }});
 
   // After Step 17: the pressure work's heat (pressure_work_heat.hpp; docs/design.md).
-  const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
+  const Kokkos::Array<double, 3> h = p.grid.spacing_array();
   const auto gravity = pb.input.ice.gravity;
   m_steps.push_back(Step{
       "pressure_work_heat",
@@ -628,9 +628,8 @@ void Cycle::add_lagrangian_steps() {
         in.mom_L = read_vec(ctx, "mom_L_CC");
         in.mom_source = read_vec(ctx, "mom_source_CC");
         in.vel_me = read_vec(ctx, "vel_ME_CC");
-        const double hh[3] = {h[0], h[1], h[2]};
         const auto temp = ctx.write<Field4>("temp_ME_CC");
-        pressure_work_heat(owned, hh, dt, {gravity[0], gravity[1], gravity[2]}, mats, in, temp,
+        pressure_work_heat(owned, h, dt, {gravity[0], gravity[1], gravity[2]}, mats, in, temp,
                            ctx.write<Field4>("Tdot_CC"));
         fill_extra_cells(temp, p, bc.temperature, -1);
       }});
@@ -761,7 +760,7 @@ void Cycle::add_advection_steps() {
   const MaterialTable mats = pb.materials;
   const int n = mats.count;
   const double V = p.grid.cell_volume();
-  const Kokkos::Array<double, 3> h{p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]};
+  const Kokkos::Array<double, 3> h = p.grid.spacing_array();
   const bool second_order = pb.input.ice.second_order;
   const bool ke_fix = pb.input.ice.kinetic_energy_fix;
   const IndexBox owned = p.owned_cells();
@@ -879,7 +878,7 @@ double Cycle::stable_timestep() const {
   const double solid_limit = m_pb.input.time.cfl * global_min(m_pb.decomposition->comm(), m_mpm_dt_limit);
   if (!m_pb.has_cells()) return solid_limit;
   const VectorField4 vel = vector_field(m_pb.fields, "vel_CC");
-  const double dt = ice_timestep(p.owned_cells(), {p.grid.spacing[0], p.grid.spacing[1], p.grid.spacing[2]},
+  const double dt = ice_timestep(p.owned_cells(), p.grid.spacing_array(),
                                  m_pb.input.time.cfl, m_pb.materials, m_pb.fields.get<Field4>("rho_CC"),
                                  m_pb.fields.get<Field4>("sp_vol_CC"),
                                  m_pb.fields.get<Field4>("temp_CC"), ConstVectorField4{vel[0], vel[1], vel[2]});

@@ -136,6 +136,14 @@ struct AdvectionRow {
     const Location faces[3] = {Location::x_face, Location::y_face, Location::z_face};
     for (int d = 0; d < 3; ++d) U[d] = make_field("U", p, faces[d], 1);
   }
+  // The periodic image (0..15) of local cell index i.
+  static int owned_image(int i) { return ((i - 2) % 16 + 16) % 16; }
+  // A rough profile over the owned images: a ramp with a step of 3 on cells 5-8.
+  static double rough(int gi) { return 1.0 + (gi > 4 && gi < 9 ? 3.0 : 0.0) + 0.1 * gi; }
+  GradientField gradient() const {
+    return {make_field("gx", p, Location::cell), make_field("gy", p, Location::cell),
+            make_field("gz", p, Location::cell)};
+  }
 };
 
 // Uniform flow of a uniform field: no change in the interior, first and second order;
@@ -155,14 +163,10 @@ TEST(Advection, UniformFieldIsUnchangedAndTotalsAreConserved) {
       auto qh = Kokkos::create_mirror_view(q);
       for (int i = 0; i < nx; ++i)
         for (int j = 0; j < 5; ++j)
-          for (int k = 0; k < 5; ++k) {
-            // periodic image of owned index
-            const int gi = ((i - 2) % 16 + 16) % 16;
-            qh(0, i, j, k) = shape == 0 ? 2.5 : 1.0 + (gi > 4 && gi < 9 ? 3.0 : 0.0) + 0.1 * gi;
-          }
+          for (int k = 0; k < 5; ++k)
+            qh(0, i, j, k) = shape == 0 ? 2.5 : AdvectionRow::rough(AdvectionRow::owned_image(i));
       Kokkos::deep_copy(q, qh);
-      GradientField grad{make_field("gx", p, Location::cell), make_field("gy", p, Location::cell),
-                         make_field("gz", p, Location::cell)};
+      GradientField grad = row.gradient();
       if (second) limited_gradient(p.ghosted_cells(1), h, q, 0, ConstField4(), GradientField(), grad);
       Field4 change = make_field("chg", p, Location::cell, 1);
       advection_change(p.owned_cells(), h, dt, Uc, 0, q, ConstField4(), second, grad, GradientField(),
@@ -193,9 +197,9 @@ TEST(Advection, FaceFluxesAddUpToTheChange) {
   for (int i = 0; i < nx + 1; ++i)
     for (int j = 0; j < 5; ++j)
       for (int k = 0; k < 5; ++k) {
-        const int gi = ((i - 2) % 16 + 16) % 16;  // periodic image of an owned index
+        const int gi = AdvectionRow::owned_image(i);
         uh(0, i, j, k) = 80.0 * std::sin(2 * M_PI * gi / 16.0) + 10.0;
-        if (i < nx) qh(0, i, j, k) = 1.0 + (gi > 4 && gi < 9 ? 3.0 : 0.0) + 0.1 * gi;
+        if (i < nx) qh(0, i, j, k) = AdvectionRow::rough(gi);
       }
   Kokkos::deep_copy(q, qh);
   Kokkos::deep_copy(U[0], uh);
@@ -204,8 +208,7 @@ TEST(Advection, FaceFluxesAddUpToTheChange) {
   const double V = 1e-3;
   const ConstVectorField4 Uc{U[0], U[1], U[2]};
   for (bool second : {false, true}) {
-    GradientField grad{make_field("gx", p, Location::cell), make_field("gy", p, Location::cell),
-                       make_field("gz", p, Location::cell)};
+    GradientField grad = row.gradient();
     if (second) limited_gradient(p.ghosted_cells(1), h, q, 0, ConstField4(), GradientField(), grad);
     Field4 change = make_field("chg", p, Location::cell, 1);
     advection_change(p.owned_cells(), h, dt, Uc, 0, q, ConstField4(), second, grad, GradientField(), change);
@@ -294,8 +297,7 @@ TEST(PressureWorkHeat, FluxFormTelescopes) {
   in.mom_L = ConstVectorField4{mom_L[0], mom_L[1], mom_L[2]};
   in.mom_source = ConstVectorField4{mom_src[0], mom_src[1], mom_src[2]};
   in.vel_me = ConstVectorField4{vel[0], vel[1], vel[2]};
-  const double hh[3] = {0.01, 0.01, 0.01};
-  const double total = pressure_work_heat(p.owned_cells(), hh, 1e-6, {0, 0, 0}, mats, in, temp, tdot);
+  const double total = pressure_work_heat(p.owned_cells(), {0.01, 0.01, 0.01}, 1e-6, {0, 0, 0}, mats, in, temp, tdot);
   auto th = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), temp);
   double charged = 0, kinetic = 0, heated = 0, scale = 0;
   for (int i = 1; i < 9; ++i) {

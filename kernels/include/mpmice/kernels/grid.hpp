@@ -26,6 +26,8 @@ struct Grid {
   double upper(int d) const { return lower[d] + spacing[d] * cells[d]; }
   double cell_volume() const { return spacing[0] * spacing[1] * spacing[2]; }
   double face_area(int d) const { return cell_volume() / spacing[d]; }
+  /// The spacing as the kernels take it.
+  Kokkos::Array<double, 3> spacing_array() const { return {spacing[0], spacing[1], spacing[2]}; }
   long cell_count() const { return long(cells[0]) * cells[1] * cells[2]; }
 };
 

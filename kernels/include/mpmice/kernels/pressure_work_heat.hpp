@@ -53,7 +53,7 @@ struct PressureWorkInputs {
 /// temperature change, so a trace material takes a trace), at most -1/2 of sum m c_v T
 /// (every temperature stays positive); `temp_me` and `temp_rate` (Tdot, read by E32)
 /// change by it. Returns the sum of heat_c over `cells`, J.
-inline double pressure_work_heat(const IndexBox& cells, const double h[3], double dt,
+inline double pressure_work_heat(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                                  const Kokkos::Array<double, 3> gravity, const MaterialTable& mats,
                                  const PressureWorkInputs& in, const Field4& temp_me, const Field4& temp_rate) {
   const double hx = h[0], hy = h[1], hz = h[2];
