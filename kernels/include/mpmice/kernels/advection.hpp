@@ -13,6 +13,7 @@
 
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/grid_state.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/math.hpp>
 
 namespace mpmice {
@@ -126,7 +127,7 @@ struct SlabValue {
   int m;
   double h[3];
 
-  KOKKOS_FORCEINLINE_FUNCTION double operator()(int i, int j, int k, int f, const double* d) const {
+  KOKKOS_FORCEINLINE_FUNCTION double operator()(long i, long j, long k, int f, const double* d) const {
     const double qc = q(m, i, j, k);
     if (!SecondOrder) return Compatible ? mass(m, i, j, k) * qc : qc;
     const double mc = Compatible ? mass(m, i, j, k) : 1.0;
@@ -162,30 +163,35 @@ void with_slab_kind(bool second_order, bool compatible, F&& f) {
 template <int Dir, class Slab>
 void face_fluxes(const IndexBox& faces, double dt, double area, const ConstVectorField4& U, int m, const Slab& slab,
                  const Field3& flux) {
-  constexpr int di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
+  constexpr long di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
   constexpr int low = 2 * Dir, high = 2 * Dir + 1;  // the donor's face: below the face, its high one
-  Kokkos::parallel_for(
-      "mpmice::face_fluxes", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double u = U[Dir](m, i, j, k);
-        if constexpr (!Slab::second_order) {
-          // The donor chosen by the sign of u without a branch: face velocities of either
-          // sign would mispredict one branch per face.
-          const double q_donor = u > 0 ? slab(i - di, j - dj, k - dk, high, nullptr) : slab(i, j, k, low, nullptr);
-          const double moved = q_donor * (math::abs(u) * dt) * area;
-          flux(i, j, k) = u > 0 ? moved : (u < 0 ? -moved : 0.0);
-        } else {
-          double d[6];
-          if (u > 0) {  // donor: the cell below the face, through its high face
-            outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
-            flux(i, j, k) = slab(i - di, j - dj, k - dk, high, d) * d[high] * area;
-          } else if (u < 0) {  // donor: the cell above, through its low face
-            outflux_distances(U, m, i, j, k, dt, d);
-            flux(i, j, k) = -(slab(i, j, k, low, d) * d[low] * area);
-          } else {
-            flux(i, j, k) = 0.0;
-          }
-        }
-      });
+  const auto body = KOKKOS_LAMBDA(long i, long j, long k) {
+    const double u = U[Dir](m, i, j, k);
+    if constexpr (!Slab::second_order) {
+      // The donor chosen by the sign of u without a branch: face velocities of either
+      // sign would mispredict one branch per face, and the loop over faces vectorises.
+      const double q_below = slab(i - di, j - dj, k - dk, high, nullptr), q_above = slab(i, j, k, low, nullptr);
+      // q (u dt) A: the same as q (|u| dt) A with the flux's sign, rounding being symmetric.
+      flux(i, j, k) = (u > 0 ? q_below : q_above) * (u * dt) * area;
+    } else {
+      double d[6];
+      if (u > 0) {  // donor: the cell below the face, through its high face
+        outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
+        flux(i, j, k) = slab(i - di, j - dj, k - dk, high, d) * d[high] * area;
+      } else if (u < 0) {  // donor: the cell above, through its low face
+        outflux_distances(U, m, i, j, k, dt, d);
+        flux(i, j, k) = -(slab(i, j, k, low, d) * d[low] * area);
+      } else {
+        flux(i, j, k) = 0.0;
+      }
+    }
+  };
+  // The second-order body branches on the sign of u and does not vectorise; it keeps
+  // the MDRange's tiles.
+  if constexpr (Slab::second_order)
+    Kokkos::parallel_for("mpmice::face_fluxes", faces.policy(), body);
+  else
+    for_each_index("mpmice::face_fluxes", faces, body);
 }
 
 }  // namespace detail
@@ -224,8 +230,8 @@ inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h,
 inline void flux_difference(const IndexBox& cells, double inv_volume, const FaceFluxes& flux, int m,
                             const Field4& change) {
   const Field3 fx = flux[0], fy = flux[1], fz = flux[2];
-  Kokkos::parallel_for(
-      "mpmice::flux_difference", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  for_each_index(
+      "mpmice::flux_difference", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         // Faces in the order x-low, x-high, y-low, ...
         double sum = 0;
         sum += fx(i, j, k);
@@ -260,9 +266,9 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
 inline void add_face_fluxes(const IndexBox& cells, const FaceFluxes& from, const FaceFluxes& to) {
   for (int d = 0; d < 3; ++d) {
     const Field3 src = from[d], dst = to[d];
-    Kokkos::parallel_for(
-        "mpmice::add_face_fluxes", faces_of(cells, d).policy(),
-        KOKKOS_LAMBDA(int i, int j, int k) { dst(i, j, k) += src(i, j, k); });
+    for_each_index(
+        "mpmice::add_face_fluxes", faces_of(cells, d),
+        KOKKOS_LAMBDA(long i, long j, long k) { dst(i, j, k) += src(i, j, k); });
   }
 }
 

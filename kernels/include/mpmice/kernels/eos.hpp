@@ -26,9 +26,23 @@ struct Eos {
   bool modified = false;   ///< (E52) below rho_0 (solid)
 };
 
+/// The ideal gas (E47-E48) alone, for kernels that know every material is one (no
+/// branch on the type, so they vectorise) and for the general functions below.
+KOKKOS_INLINE_FUNCTION double ideal_gas_pressure(const Eos& e, double rho_micro, double temp) {
+  return (e.gamma - 1.0) * rho_micro * e.cv * temp;
+}
+KOKKOS_INLINE_FUNCTION double ideal_gas_density(const Eos& e, double press, double temp) {
+  return press / ((e.gamma - 1.0) * e.cv * temp);
+}
+/// c^2 = dp/drho + dp/de p / rhoM^2 (E47).
+KOKKOS_INLINE_FUNCTION double ideal_gas_sound_speed_squared(const Eos& e, double rho_micro, double temp) {
+  const double p = ideal_gas_pressure(e, rho_micro, temp);
+  return (e.gamma - 1.0) * e.cv * temp + (e.gamma - 1.0) * rho_micro * p / (rho_micro * rho_micro);
+}
+
 /// Pressure from micro density and temperature (E48, E51, E52).
 KOKKOS_INLINE_FUNCTION double eos_pressure(const Eos& e, double rho_micro, double temp) {
-  if (e.type == EosType::ideal_gas) return (e.gamma - 1.0) * rho_micro * e.cv * temp;
+  if (e.type == EosType::ideal_gas) return ideal_gas_pressure(e, rho_micro, temp);
   if (e.modified && rho_micro < e.rho0) return e.p_ref * math::pow(rho_micro / e.rho0, e.bulk / e.p_ref);
   const double J = e.rho0 / rho_micro;
   return e.p_ref - 0.5 * e.bulk * (J - 1.0 / J);
@@ -50,7 +64,7 @@ KOKKOS_INLINE_FUNCTION double eos_dp_de(const Eos& e, double rho_micro, double /
 
 /// Micro density from pressure and temperature, the inverse of eos_pressure.
 KOKKOS_INLINE_FUNCTION double eos_density(const Eos& e, double press, double temp) {
-  if (e.type == EosType::ideal_gas) return press / ((e.gamma - 1.0) * e.cv * temp);
+  if (e.type == EosType::ideal_gas) return ideal_gas_density(e, press, temp);
   if (e.modified && press < e.p_ref) return e.rho0 * math::pow(press / e.p_ref, e.p_ref / e.bulk);
   const double x = (press - e.p_ref) / e.bulk;
   return e.rho0 * (x + math::sqrt(x * x + 1.0));
@@ -63,8 +77,7 @@ KOKKOS_INLINE_FUNCTION double eos_sound_speed_squared(const Eos& e, double rho_m
     if (e.modified && rho_micro < e.rho0) return eos_dp_drho(e, rho_micro, temp);
     return e.bulk / rho_micro;
   }
-  const double p = eos_pressure(e, rho_micro, temp);
-  return eos_dp_drho(e, rho_micro, temp) + eos_dp_de(e, rho_micro, temp) * p / (rho_micro * rho_micro);
+  return ideal_gas_sound_speed_squared(e, rho_micro, temp);
 }
 
 /// Thermal expansivity alpha = (1/v)(dv/dT)_p: 1/T for an ideal gas (E48), 0 for the

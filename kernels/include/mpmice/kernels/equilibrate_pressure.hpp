@@ -7,6 +7,7 @@
 
 #include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
@@ -103,30 +104,34 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, con
 template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
-  const int nj = int(in.rho.extent(2)), nk = int(in.rho.extent(3));
-  long bad_cell = 0;
-  Kokkos::parallel_reduce(
-      "mpmice::equilibrate_pressure", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, long& bad) {
+  const long nj = in.rho.extent(2), nk = in.rho.extent(3);
+  return max_over_index(
+      "mpmice::equilibrate_pressure", cells, KOKKOS_LAMBDA(long i, long j, long k, long& bad) {
         double temp[N], rho_bulk[N], rho_micro[N], theta[N];
         // (E14): start from last step's micro densities.
         double tmv = 0;
-        for (int r = 0; r < N; ++r) {
+        unrolled_for<N>([&](int r) {
           temp[r] = in.temp(r, i, j, k);
           rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
           theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
           tmv += theta[r];
-        }
-        for (int r = 0; r < N; ++r) {
+        });
+        unrolled_for<N>([&](int r) {
           theta[r] /= tmv;
           rho_bulk[r] = theta[r] * rho_micro[r];
-        }
+        });
         double press = in.press(i, j, k);
         bool ok = true;
         if (AllIdeal) {
+          // No branch in this path: the loop over cells vectorises.
           press = 0;
-          for (int r = 0; r < N; ++r) press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
-          fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
+          unrolled_for<N>([&](int r) {
+            press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
+          });
+          unrolled_for<N>([&](int r) {
+            rho_micro[r] = ideal_gas_density(mats.eos[r], press, temp[r]);
+            theta[r] = rho_bulk[r] / rho_micro[r];
+          });
         } else {
           ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
           if (!ok) {
@@ -134,12 +139,13 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
             ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
           }
         }
-        bool sane = ok && press > 0.0 && math::isfinite(press);
+        bool sane = ok & (press > 0.0) & math::isfinite(press);
         // (E16)
         double sum_kappa = 0, tmv_eq = 0;
-        for (int r = 0; r < N; ++r) {
-          if (!(rho_micro[r] > 0.0) || !(theta[r] >= 0.0)) sane = false;
-          const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
+        unrolled_for<N>([&](int r) {
+          sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
+          const double c2 = AllIdeal ? ideal_gas_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r])
+                                     : eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
           const double v = 1.0 / rho_micro[r];
           const double kappa = v / c2;
           out.vol_frac(r, i, j, k) = theta[r];
@@ -148,17 +154,13 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
           out.kappa(r, i, j, k) = kappa;
           sum_kappa += theta[r] * kappa;
           tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
-        }
+        });
         out.press_eq(i, j, k) = press;
         out.sum_kappa(i, j, k) = sum_kappa;
         out.tmv(i, j, k) = tmv_eq;
-        if (!sane) {
-          const long id = (long(i) * nj + j) * nk + k + 1;
-          if (id > bad) bad = id;
-        }
-      },
-      Kokkos::Max<long>(bad_cell));
-  return bad_cell;
+        const long id = (i * nj + j) * nk + k + 1;
+        bad = sane || id <= bad ? bad : id;
+      });
 }
 
 }  // namespace detail

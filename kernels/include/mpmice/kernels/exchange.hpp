@@ -3,6 +3,7 @@
 /// \brief Step 17: implicit momentum and heat exchange among all materials of a cell
 ///        (E31). Because mL_r v_r = theta_r TMV, mL_r beta_rs is symmetric and the
 ///        solve conserves total momentum and sum m c_v T to round-off for any K, H.
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/small_solve.hpp>
 
@@ -10,7 +11,8 @@ namespace mpmice {
 
 namespace detail {
 
-// exchange() for N materials, N known at compile time.
+// exchange() for N materials, N known at compile time: every loop in a cell is
+// written out, so the loop over cells vectorises.
 template <int N>
 void exchange_n(const IndexBox& cells, double dt, const MaterialTable& mats, const ConstField4& mass_L,
                 const ConstVectorField4& mom_L, const ConstField4& int_eng_L, const ConstField4& sp_vol,
@@ -26,32 +28,34 @@ void exchange_n(const IndexBox& cells, double dt, const MaterialTable& mats, con
   Kokkos::Array<double, N> cv;
   for (int r = 0; r < N; ++r) cv[r] = mats.eos[r].cv;
   const double inv_dt = 1.0 / dt;
-  Kokkos::parallel_for(
-      "mpmice::exchange", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  for_each_index(
+      "mpmice::exchange", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double u[3 * N], t[N], mass[N], heat_cap[N], dt_v[N], theta[N];
-        for (int r = 0; r < N; ++r) {
+        unrolled_for<N>([&](int r) {
           mass[r] = mass_L(r, i, j, k);
           heat_cap[r] = mass[r] * cv[r];
           const double inv_mass = 1.0 / mass[r];
-          for (int d = 0; d < 3; ++d) u[d * N + r] = mom_L[d](r, i, j, k) * inv_mass;
+          unrolled_for<3>([&](int d) { u[d * N + r] = mom_L[d](r, i, j, k) * inv_mass; });
           t[r] = int_eng_L(r, i, j, k) / heat_cap[r];
           dt_v[r] = dt * sp_vol(r, i, j, k);
           theta[r] = vol_frac(r, i, j, k);
-        }
+        });
         if (N > 1) {
           double beta[N * N];
-          for (int r = 0; r < N; ++r)
-            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * K[r * N + s];
+          unrolled_for<N>([&](int r) {
+            unrolled_for<N>([&](int s) { beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * K[r * N + s]; });
+          });
           implicit_exchange<N, 3>(beta, u, mass);
-          for (int r = 0; r < N; ++r)
-            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * H_cv[r * N + s];
+          unrolled_for<N>([&](int r) {
+            unrolled_for<N>([&](int s) { beta[r * N + s] = r == s ? 0.0 : dt_v[r] * theta[s] * H_cv[r * N + s]; });
+          });
           implicit_exchange<N, 1>(beta, t, heat_cap);
         }
-        for (int r = 0; r < N; ++r) {
-          for (int d = 0; d < 3; ++d) vel_me[d](r, i, j, k) = u[d * N + r];
+        unrolled_for<N>([&](int r) {
+          unrolled_for<3>([&](int d) { vel_me[d](r, i, j, k) = u[d * N + r]; });
           temp_me(r, i, j, k) = t[r];
           temp_rate(r, i, j, k) = (t[r] - temp_old(r, i, j, k)) * inv_dt;
-        }
+        });
       });
 }
 

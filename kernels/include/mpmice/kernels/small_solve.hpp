@@ -2,8 +2,10 @@
 /// \file small_solve.hpp
 /// \brief Dense N x N solve by Gaussian elimination, for the
 ///        per-cell exchange systems (E19, E31). N is a compile-time constant (1 to
-///        max_materials, chosen by `with_material_count` in materials.hpp), so the
-///        arrays live in registers and the loops unroll.
+///        max_materials, chosen by `with_material_count` in materials.hpp), and every
+///        loop is written out (`unrolled_for`), so the arrays live in registers and
+///        a kernel calling these vectorises across cells.
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/math.hpp>
 #include <mpmice/kernels/types.hpp>
 
@@ -16,20 +18,27 @@ namespace mpmice {
 /// factor is at most 2 (Wilkinson). Fixed indices keep a and b in registers.
 template <int N, int NRHS>
 KOKKOS_INLINE_FUNCTION void solve_dense(double* a, double* b) {
-  for (int col = 0; col < N; ++col) {
+  unrolled_for<N>([&](int col) {
     const double inv = 1.0 / a[col * N + col];
-    for (int r = col + 1; r < N; ++r) {
+    unrolled_for<N>([&](int r) {
+      if (r <= col) return;
       const double f = a[r * N + col] * inv;
-      for (int s = col; s < N; ++s) a[r * N + s] -= f * a[col * N + s];
-      for (int k = 0; k < NRHS; ++k) b[k * N + r] -= f * b[k * N + col];
-    }
-  }
-  for (int k = 0; k < NRHS; ++k)
-    for (int r = N - 1; r >= 0; --r) {
+      unrolled_for<N>([&](int s) {
+        if (s >= col) a[r * N + s] -= f * a[col * N + s];
+      });
+      unrolled_for<NRHS>([&](int k) { b[k * N + r] -= f * b[k * N + col]; });
+    });
+  });
+  unrolled_for<NRHS>([&](int k) {
+    unrolled_for<N>([&](int rr) {
+      const int r = N - 1 - rr;
       double sum = b[k * N + r];
-      for (int s = r + 1; s < N; ++s) sum -= a[r * N + s] * b[k * N + s];
+      unrolled_for<N>([&](int s) {
+        if (s > r) sum -= a[r * N + s] * b[k * N + s];
+      });
       b[k * N + r] = sum / a[r * N + r];
-    }
+    });
+  });
 }
 
 /// The exchange system of (E19)/(E31): with beta_rs = beta[r * N + s] given, solve
@@ -46,31 +55,32 @@ KOKKOS_INLINE_FUNCTION void implicit_exchange(const double* beta, double* q, con
   if (N == 1) return;  // nothing to exchange with
   double a[N * N];
   double b[NQ * N];
-  for (int r = 0; r < N; ++r) {
+  unrolled_for<N>([&](int r) {
     double diag = 1.0;
-    for (int s = 0; s < N; ++s) {
-      if (s == r) continue;
+    unrolled_for<N>([&](int s) {
+      if (s == r) return;
       diag += beta[r * N + s];
       a[r * N + s] = -beta[r * N + s];
-    }
+    });
     a[r * N + r] = diag;
-    for (int k = 0; k < NQ; ++k) {
+    unrolled_for<NQ>([&](int k) {
       double rhs = 0.0;
-      for (int s = 0; s < N; ++s)
+      unrolled_for<N>([&](int s) {
         if (s != r) rhs += beta[r * N + s] * (q[k * N + s] - q[k * N + r]);
+      });
       b[k * N + r] = rhs;
-    }
-  }
+    });
+  });
   solve_dense<N, NQ>(a, b);
   double wsum = 0.0;
-  for (int r = 0; r < N; ++r) wsum += weight[r];
-  for (int k = 0; k < NQ; ++k) {
+  unrolled_for<N>([&](int r) { wsum += weight[r]; });
+  unrolled_for<NQ>([&](int k) {
     // sum_r w_r dq_r must vanish.
     double shift = 0.0;
-    for (int r = 0; r < N; ++r) shift -= weight[r] * b[k * N + r];
+    unrolled_for<N>([&](int r) { shift -= weight[r] * b[k * N + r]; });
     shift /= wsum;
-    for (int r = 0; r < N; ++r) q[k * N + r] += b[k * N + r] + shift;
-  }
+    unrolled_for<N>([&](int r) { q[k * N + r] += b[k * N + r] + shift; });
+  });
 }
 
 }  // namespace mpmice

@@ -1,0 +1,104 @@
+#pragma once
+/// \file loops.hpp
+/// \brief The two loop shapes of the cell kernels: `for_each_index` runs a body over
+///        every index of a box in parallel, `unrolled_for` writes out a short loop whose
+///        length is known at compile time (a cell's materials, a small solve's rows).
+///        Together they let the compiler vectorise a cell kernel across cells.
+#include <string>
+#include <utility>
+
+#include <mpmice/kernels/types.hpp>
+
+#if defined(_OPENMP)
+#define MPMICE_PRAGMA_SIMD _Pragma("omp simd")
+#else
+#define MPMICE_PRAGMA_SIMD
+#endif
+#if defined(__GNUC__)
+#define MPMICE_FLATTEN __attribute__((flatten))
+#else
+#define MPMICE_FLATTEN
+#endif
+
+namespace mpmice {
+
+namespace detail {
+/// One row of `for_each_index`: k from lo to hi at fixed (i, j). Flattened (every
+/// call inside inlined), because a call left in the loop keeps it from vectorising.
+template <class F>
+MPMICE_FLATTEN void index_row(const F& f, long i, long j, long lo, long hi) {
+  MPMICE_PRAGMA_SIMD
+  for (long k = lo; k < hi; ++k) f(i, j, k);
+}
+
+/// One row of `max_over_index`.
+template <class F>
+MPMICE_FLATTEN long index_row_max(const F& f, long i, long j, long lo, long hi) {
+  long row_max = 0;
+#if defined(_OPENMP)
+#pragma omp simd reduction(max : row_max)
+#endif
+  for (long k = lo; k < hi; ++k) f(i, j, k, row_max);
+  return row_max;
+}
+}  // namespace detail
+
+/// Runs f(i, j, k) for every index of `box`, in parallel; the indices are `long`.
+/// On a GPU this is the MDRange policy. On the host (OpenMP, Serial) each thread
+/// takes whole rows (i, j) and runs k, the contiguous index, as an `omp simd` loop.
+/// GCC 12 vectorises that loop when the body has no branches or inner loops left
+/// after inlining (materials and small solves written out with `unrolled_for`) and
+/// indexes its views with `long` (an `int` index converted to the view's size_t
+/// offset defeats its stride analysis); it does not vectorise through an MDRange's
+/// tiles. Kernels whose body cannot vectorise keep `IndexBox::policy()`.
+template <class F>
+void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  Kokkos::parallel_for(label, box.policy(), f);
+#else
+  if (box.size() == 0) return;
+  const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
+  const long rows1 = box.extent(1);
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1), [=](long row) {
+    detail::index_row(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
+  });
+#endif
+}
+
+/// Like `for_each_index`, for a body f(i, j, k, long& v) that may raise v; returns
+/// the largest v (0 if no body raised it), e.g. to report a failing cell.
+template <class F>
+long max_over_index(const std::string& label, const IndexBox& box, const F& f) {
+  long result = 0;
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  Kokkos::parallel_reduce(label, box.policy(), f, Kokkos::Max<long>(result));
+#else
+  if (box.size() == 0) return 0;
+  const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
+  const long rows1 = box.extent(1);
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1),
+      [=](long row, long& v) {
+        const long row_max = detail::index_row_max(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
+        if (row_max > v) v = row_max;
+      },
+      Kokkos::Max<long>(result));
+#endif
+  return result;
+}
+
+namespace detail {
+template <class F, int... I>
+KOKKOS_FORCEINLINE_FUNCTION void unrolled_calls(const F& f, std::integer_sequence<int, I...>) {
+  (f(I), ...);
+}
+}  // namespace detail
+
+/// Calls f(0), f(1), ..., f(N - 1), written out: each call sees its index as a
+/// constant, so conditions on it fold away and arrays indexed by it live in registers.
+template <int N, class F>
+KOKKOS_FORCEINLINE_FUNCTION void unrolled_for(const F& f) {
+  detail::unrolled_calls(f, std::make_integer_sequence<int, N>{});
+}
+
+}  // namespace mpmice
