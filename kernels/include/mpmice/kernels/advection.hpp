@@ -22,8 +22,8 @@ using GradientField = Kokkos::Array<Field3, 3>;
 
 /// Outflux distances of material m's cell (i,j,k) (E39): d[2*dir] through the low
 /// face, d[2*dir+1] through the high face, m.
-KOKKOS_FORCEINLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, int m, int i, int j,
-                                              int k, double dt, double* d) {
+KOKKOS_FORCEINLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, int m, long i, long j,
+                                                   long k, double dt, double* d) {
   const double ux_lo = U[0](m, i, j, k), ux_hi = U[0](m, i + 1, j, k);
   const double uy_lo = U[1](m, i, j, k), uy_hi = U[1](m, i, j + 1, k);
   const double uz_lo = U[2](m, i, j, k), uz_hi = U[2](m, i, j, k + 1);
@@ -60,35 +60,35 @@ namespace detail {
 template <bool Compatible>
 void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h, const ConstField4& q, int m,
                       const ConstField4& mass, const GradientField& mass_grad, const GradientField& grad) {
-  Kokkos::parallel_for(
-      "mpmice::limited_gradient", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  for_each_index(
+      "mpmice::limited_gradient", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         const double qc = q(m, i, j, k);
         const double nb[6] = {q(m, i - 1, j, k), q(m, i + 1, j, k), q(m, i, j - 1, k),
                               q(m, i, j + 1, k), q(m, i, j, k - 1), q(m, i, j, k + 1)};
         double g[3], qmax = qc, qmin = qc;
-        for (int d = 0; d < 3; ++d) g[d] = (nb[2 * d + 1] - nb[2 * d]) / (2.0 * h[d]);
-        for (int f = 0; f < 6; ++f) {
+        unrolled_for<3>([&](int d) { g[d] = (nb[2 * d + 1] - nb[2 * d]) / (2.0 * h[d]); });
+        unrolled_for<6>([&](int f) {
           qmax = nb[f] > qmax ? nb[f] : qmax;
           qmin = nb[f] < qmin ? nb[f] : qmin;
-        }
+        });
         double mc = 0, gm[3] = {0, 0, 0};
         if (Compatible) {
           mc = mass(m, i, j, k);
-          for (int d = 0; d < 3; ++d) gm[d] = mass_grad[d](i, j, k);
+          unrolled_for<3>([&](int d) { gm[d] = mass_grad[d](i, j, k); });
         }
         double vmax = qc, vmin = qc;
-        for (int v = 0; v < 8; ++v) {
+        unrolled_for<8>([&](int v) {
           double dq = 0, dm = 0;
-          for (int d = 0; d < 3; ++d) {
+          unrolled_for<3>([&](int d) {
             const double half = ((v >> d) & 1 ? 0.5 : -0.5) * h[d];
             dq += g[d] * half;
             dm += gm[d] * half;
-          }
+          });
           if (Compatible) dq *= mc / (mc + dm);
           const double qv = qc + dq;
           vmax = qv > vmax ? qv : vmax;
           vmin = qv < vmin ? qv : vmin;
-        }
+        });
         constexpr double eps = 1.0e-100;
         double phi = 1.0;
         const double up = (qmax - qc + eps) / (vmax - qc + eps);
@@ -96,7 +96,7 @@ void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h, c
         phi = up < phi ? up : phi;
         phi = down < phi ? down : phi;
         phi = phi > 0.0 ? phi : 0.0;
-        for (int d = 0; d < 3; ++d) grad[d](i, j, k) = phi * g[d];
+        unrolled_for<3>([&](int d) { grad[d](i, j, k) = phi * g[d]; });
       });
 }
 
@@ -134,13 +134,13 @@ struct SlabValue {
     // Centroid of slab f relative to the cell centre.
     const int dir = f / 2;
     double r[3];
-    for (int c = 0; c < 3; ++c) r[c] = 0.5 * (d[2 * c] - d[2 * c + 1]);
+    unrolled_for<3>([&](int c) { r[c] = 0.5 * (d[2 * c] - d[2 * c + 1]); });
     r[dir] = (f & 1) ? 0.5 * (h[dir] - d[f]) : 0.5 * (d[f] - h[dir]);
     double gq = 0;
-    for (int c = 0; c < 3; ++c) gq += grad[c](i, j, k) * r[c];
+    unrolled_for<3>([&](int c) { gq += grad[c](i, j, k) * r[c]; });
     if (!Compatible) return qc + gq;
     double gm = 0;
-    for (int c = 0; c < 3; ++c) gm += mass_grad[c](i, j, k) * r[c];
+    unrolled_for<3>([&](int c) { gm += mass_grad[c](i, j, k) * r[c]; });
     return (mc + gm) * qc + mc * gq;
   }
 };
@@ -165,7 +165,7 @@ void face_fluxes(const IndexBox& faces, double dt, double area, const ConstVecto
                  const Field3& flux) {
   constexpr long di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
   constexpr int low = 2 * Dir, high = 2 * Dir + 1;  // the donor's face: below the face, its high one
-  const auto body = KOKKOS_LAMBDA(long i, long j, long k) {
+  for_each_index("mpmice::face_fluxes", faces, KOKKOS_LAMBDA(long i, long j, long k) {
     const double u = U[Dir](m, i, j, k);
     if constexpr (!Slab::second_order) {
       // The donor chosen by the sign of u without a branch: face velocities of either
@@ -174,24 +174,17 @@ void face_fluxes(const IndexBox& faces, double dt, double area, const ConstVecto
       // q (u dt) A: the same as q (|u| dt) A with the flux's sign, rounding being symmetric.
       flux(i, j, k) = (u > 0 ? q_below : q_above) * (u * dt) * area;
     } else {
-      double d[6];
-      if (u > 0) {  // donor: the cell below the face, through its high face
-        outflux_distances(U, m, i - di, j - dj, k - dk, dt, d);
-        flux(i, j, k) = slab(i - di, j - dj, k - dk, high, d) * d[high] * area;
-      } else if (u < 0) {  // donor: the cell above, through its low face
-        outflux_distances(U, m, i, j, k, dt, d);
-        flux(i, j, k) = -(slab(i, j, k, low, d) * d[low] * area);
-      } else {
-        flux(i, j, k) = 0.0;
-      }
+      // Both candidate donors' slabs, then the one the sign of u picks: no branch, so
+      // the loop over faces vectorises (each face does the work of two).
+      double d_below[6], d_above[6];
+      outflux_distances(U, m, i - di, j - dj, k - dk, dt, d_below);
+      outflux_distances(U, m, i, j, k, dt, d_above);
+      // The cell below through its high face, positive; the cell above through its low face.
+      const double out_below = slab(i - di, j - dj, k - dk, high, d_below) * d_below[high] * area;
+      const double out_above = -(slab(i, j, k, low, d_above) * d_above[low] * area);
+      flux(i, j, k) = u > 0 ? out_below : (u < 0 ? out_above : 0.0);
     }
-  };
-  // The second-order body branches on the sign of u and does not vectorise; it keeps
-  // the MDRange's tiles.
-  if constexpr (Slab::second_order)
-    Kokkos::parallel_for("mpmice::face_fluxes", faces.policy(), body);
-  else
-    for_each_index("mpmice::face_fluxes", faces, body);
+  });
 }
 
 }  // namespace detail

@@ -105,8 +105,8 @@ template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const long nj = in.rho.extent(2), nk = in.rho.extent(3);
-  return max_over_index(
-      "mpmice::equilibrate_pressure", cells, KOKKOS_LAMBDA(long i, long j, long k, long& bad) {
+  return long(max_over_index(
+      "mpmice::equilibrate_pressure", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double temp[N], rho_bulk[N], rho_micro[N], theta[N];
         // (E14): start from last step's micro densities.
         double tmv = 0;
@@ -158,9 +158,8 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
         out.press_eq(i, j, k) = press;
         out.sum_kappa(i, j, k) = sum_kappa;
         out.tmv(i, j, k) = tmv_eq;
-        const long id = (i * nj + j) * nk + k + 1;
-        bad = sane || id <= bad ? bad : id;
-      });
+        return sane ? 0.0 : double((i * nj + j) * nk + k + 1);  // 1 + the failing cell's index
+      }));
 }
 
 }  // namespace detail

@@ -33,12 +33,15 @@ MPMICE_FLATTEN void index_row(const F& f, long i, long j, long lo, long hi) {
 
 /// One row of `max_over_index`.
 template <class F>
-MPMICE_FLATTEN long index_row_max(const F& f, long i, long j, long lo, long hi) {
-  long row_max = 0;
+MPMICE_FLATTEN double index_row_max(const F& f, long i, long j, long lo, long hi) {
+  double row_max = 0;
 #if defined(_OPENMP)
 #pragma omp simd reduction(max : row_max)
 #endif
-  for (long k = lo; k < hi; ++k) f(i, j, k, row_max);
+  for (long k = lo; k < hi; ++k) {
+    const double v = f(i, j, k);
+    row_max = v > row_max ? v : row_max;
+  }
   return row_max;
 }
 }  // namespace detail
@@ -65,26 +68,34 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 #endif
 }
 
-/// Like `for_each_index`, for a body f(i, j, k, long& v) that may raise v; returns
-/// the largest v (0 if no body raised it), e.g. to report a failing cell.
+/// Like `for_each_index`, for a body f(i, j, k) that returns a value; returns the
+/// largest value, or 0 if none is larger, e.g. to report a failing cell (a cell's
+/// linear index is exact in a double). A double and a returned value, not a long
+/// raised through a reference: with either, GCC 12 did not vectorise the loop.
 template <class F>
-long max_over_index(const std::string& label, const IndexBox& box, const F& f) {
-  long result = 0;
+double max_over_index(const std::string& label, const IndexBox& box, const F& f) {
+  double result = 0;
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
-  Kokkos::parallel_reduce(label, box.policy(), f, Kokkos::Max<long>(result));
+  Kokkos::parallel_reduce(
+      label, box.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, double& v) {
+        const double value = f(i, j, k);
+        if (value > v) v = value;
+      },
+      Kokkos::Max<double>(result));
 #else
   if (box.size() == 0) return 0;
   const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
   const long rows1 = box.extent(1);
   Kokkos::parallel_reduce(
       label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1),
-      [=](long row, long& v) {
-        const long row_max = detail::index_row_max(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
+      [=](long row, double& v) {
+        const double row_max = detail::index_row_max(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
         if (row_max > v) v = row_max;
       },
-      Kokkos::Max<long>(result));
+      Kokkos::Max<double>(result));
 #endif
-  return result;
+  return result > 0 ? result : 0;  // the reducer starts from the lowest double
 }
 
 namespace detail {
