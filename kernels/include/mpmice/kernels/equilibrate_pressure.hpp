@@ -105,7 +105,7 @@ template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const long nj = in.rho.extent(2), nk = in.rho.extent(3);
-  return long(max_over_index(
+  return long(reduce_over_index<Reduction::max>(
       "mpmice::equilibrate_pressure", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double temp[N], rho_bulk[N], rho_micro[N], theta[N];
         // (E14): start from last step's micro densities.

@@ -1,6 +1,7 @@
 #pragma once
 /// \file face_exchange.hpp
 /// \brief Step 6: implicit momentum exchange among the materials on each face (E19).
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/small_solve.hpp>
 
@@ -8,30 +9,36 @@ namespace mpmice {
 
 namespace detail {
 
-// face_exchange() for N materials, N known at compile time.
+// face_exchange() for N materials, N known at compile time: every loop in a face is
+// written out, so the loop over faces vectorises.
 template <int N>
 void face_exchange_n(const IndexBox& faces, int d, double dt, const MaterialTable& mats,
                      const ConstField4& vol_frac, const ConstField4& sp_vol, const ConstField4& face_vel,
                      const Field4& face_vel_me) {
-  const int di = d == 0, dj = d == 1, dk = d == 2;
-  Kokkos::parallel_for(
-      "mpmice::face_exchange", faces.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  const long di = d == 0, dj = d == 1, dk = d == 2;
+  // K_rs copied out of the table: the loop reads them from registers.
+  Kokkos::Array<double, N * N> K;
+  for (int r = 0; r < N; ++r)
+    for (int s = 0; s < N; ++s) K[r * N + s] = mats.K(r, s);
+  for_each_index(
+      "mpmice::face_exchange", faces, KOKKOS_LAMBDA(long i, long j, long k) {
         double q[N];
-        for (int r = 0; r < N; ++r) q[r] = face_vel(r, i, j, k);
+        unrolled_for<N>([&](int r) { q[r] = face_vel(r, i, j, k); });
         if (N > 1) {
-          const int il = i - di, jl = j - dj, kl = k - dk;
+          const long il = i - di, jl = j - dj, kl = k - dk;
           double vh[N], thetaf[N], beta[N * N], face_density[N];
-          for (int r = 0; r < N; ++r) {
+          unrolled_for<N>([&](int r) {
             const double vl = sp_vol(r, il, jl, kl), vr = sp_vol(r, i, j, k);
             vh[r] = 2.0 * vl * vr / (vl + vr);
             thetaf[r] = 0.5 * (vol_frac(r, il, jl, kl) + vol_frac(r, i, j, k));
             face_density[r] = thetaf[r] / vh[r];  // makes face_density_r beta_rs symmetric
-          }
-          for (int r = 0; r < N; ++r)
-            for (int s = 0; s < N; ++s) beta[r * N + s] = r == s ? 0.0 : dt * vh[r] * thetaf[s] * mats.K(r, s);
+          });
+          unrolled_for<N>([&](int r) {
+            unrolled_for<N>([&](int s) { beta[r * N + s] = r == s ? 0.0 : dt * vh[r] * thetaf[s] * K[r * N + s]; });
+          });
           implicit_exchange<N, 1>(beta, q, face_density);
         }
-        for (int r = 0; r < N; ++r) face_vel_me(r, i, j, k) = q[r];
+        unrolled_for<N>([&](int r) { face_vel_me(r, i, j, k) = q[r]; });
       });
 }
 

@@ -22,6 +22,9 @@
 
 namespace mpmice {
 
+/// What `reduce_over_index` computes.
+enum class Reduction { sum, max };
+
 namespace detail {
 /// One row of `for_each_index`: k from lo to hi at fixed (i, j). Flattened (every
 /// call inside inlined), because a call left in the loop keeps it from vectorising.
@@ -31,18 +34,25 @@ MPMICE_FLATTEN void index_row(const F& f, long i, long j, long lo, long hi) {
   for (long k = lo; k < hi; ++k) f(i, j, k);
 }
 
-/// One row of `max_over_index`.
-template <class F>
-MPMICE_FLATTEN double index_row_max(const F& f, long i, long j, long lo, long hi) {
-  double row_max = 0;
+/// One row of `reduce_over_index`.
+template <Reduction R, class F>
+MPMICE_FLATTEN double index_row_reduce(const F& f, long i, long j, long lo, long hi) {
+  double acc = 0;
+  if constexpr (R == Reduction::sum) {
 #if defined(_OPENMP)
-#pragma omp simd reduction(max : row_max)
+#pragma omp simd reduction(+ : acc)
 #endif
-  for (long k = lo; k < hi; ++k) {
-    const double v = f(i, j, k);
-    row_max = v > row_max ? v : row_max;
+    for (long k = lo; k < hi; ++k) acc += f(i, j, k);
+  } else {
+#if defined(_OPENMP)
+#pragma omp simd reduction(max : acc)
+#endif
+    for (long k = lo; k < hi; ++k) {
+      const double v = f(i, j, k);
+      acc = v > acc ? v : acc;
+    }
   }
-  return row_max;
+  return acc;
 }
 }  // namespace detail
 
@@ -68,34 +78,39 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 #endif
 }
 
-/// Like `for_each_index`, for a body f(i, j, k) that returns a value; returns the
-/// largest value, or 0 if none is larger, e.g. to report a failing cell (a cell's
-/// linear index is exact in a double). A double and a returned value, not a long
-/// raised through a reference: with either, GCC 12 did not vectorise the loop.
-template <class F>
-double max_over_index(const std::string& label, const IndexBox& box, const F& f) {
+/// Like `for_each_index`, for a body f(i, j, k) that returns a double: returns the
+/// sum of the values, or the largest of them and 0 (e.g. 1 + a failing cell's linear
+/// index, exact in a double). The sum's order depends on the rows' lengths, not on the
+/// threads. A double returned by value, not a long raised through a reference: with
+/// either, GCC 12 did not vectorise the loop (AVX2 has no 64-bit integer max).
+template <Reduction R, class F>
+double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
   double result = 0;
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
-  Kokkos::parallel_reduce(
-      label, box.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& v) {
-        const double value = f(i, j, k);
-        if (value > v) v = value;
-      },
-      Kokkos::Max<double>(result));
+  const auto body = KOKKOS_LAMBDA(int i, int j, int k, double& v) {
+    const double value = f(i, j, k);
+    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
+  };
+  if constexpr (R == Reduction::sum)
+    Kokkos::parallel_reduce(label, box.policy(), body, result);
+  else
+    Kokkos::parallel_reduce(label, box.policy(), body, Kokkos::Max<double>(result));
 #else
   if (box.size() == 0) return 0;
   const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
   const long rows1 = box.extent(1);
-  Kokkos::parallel_reduce(
-      label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1),
-      [=](long row, double& v) {
-        const double row_max = detail::index_row_max(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
-        if (row_max > v) v = row_max;
-      },
-      Kokkos::Max<double>(result));
+  const auto row = [=](long r, double& v) {
+    const double value = detail::index_row_reduce<R>(f, lo0 + r / rows1, lo1 + r % rows1, lo2, hi2);
+    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
+  };
+  const Kokkos::RangePolicy<ExecSpace> rows(0, box.extent(0) * rows1);
+  if constexpr (R == Reduction::sum)
+    Kokkos::parallel_reduce(label, rows, row, result);
+  else
+    Kokkos::parallel_reduce(label, rows, row, Kokkos::Max<double>(result));
 #endif
-  return result > 0 ? result : 0;  // the reducer starts from the lowest double
+  if constexpr (R == Reduction::max) return result > 0 ? result : 0;  // Max starts from the lowest double
+  return result;
 }
 
 namespace detail {

@@ -3,7 +3,10 @@
 /// \brief Step 18: the material volume carried through advection, from the
 ///        specific-volume evolution (E32, seed eq. 4), as the specific value
 ///        VL_r / mL_r that compatible advection transports.
+#include <limits>
+
 #include <mpmice/kernels/constants.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
@@ -17,6 +20,55 @@ namespace mpmice {
 /// rho_r V instead would scale the volume of a gas that gains mass by (m + dm)/m).
 /// With `clamp` (ClampSpecificVolume) VL_r >= TINY_RHO V v_r. Returns the number of
 /// cells where some VL_r <= 0 (the step must be redone).
+namespace detail {
+
+// lagrangian_specific_volume() for N materials, with or without mass sources: no
+// branch is left in a cell, so the loop over cells vectorises.
+template <int N, bool WithMass>
+long lagrangian_specific_volume_n(const IndexBox& cells, double cell_volume, double dt, bool clamp,
+                                  const MaterialTable& mats, const ConstField4& rho, const ConstField4& mass_L,
+                                  const ConstField4& sp_vol, const ConstField4& vol_frac,
+                                  const ConstField4& kappa, const ConstField3& sum_kappa,
+                                  const ConstField3& del_p_dilatate, const ConstField4& temp,
+                                  const ConstField4& temp_rate, const ConstField4& mass_source,
+                                  const ConstField4& source_sp_vol, const ConstField3& del_p_mass,
+                                  const Field4& sp_vol_L) {
+  // Thermal expansivity (eos_alpha): gas_r / T with gas_r = 1 for an ideal gas, 0 for
+  // the solid's law (a product, exact; a select on it kept the loop scalar).
+  Kokkos::Array<double, N> gas;
+  for (int r = 0; r < N; ++r) gas[r] = eos_alpha(mats.eos[r], 1.0, 1.0);
+  // VL_r >= floor_scale v_r: TINY_RHO V with ClampSpecificVolume, else no floor.
+  const double floor_scale = clamp ? tiny_rho * cell_volume : -std::numeric_limits<double>::infinity();
+  const double bad = reduce_over_index<Reduction::sum>(
+      "mpmice::lagrangian_specific_volume", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        double alpha[N];
+        unrolled_for<N>([&](int s) { alpha[s] = gas[s] * (1.0 / temp(s, i, j, k)); });
+        double x = 0;
+        unrolled_for<N>([&](int s) { x += vol_frac(s, i, j, k) * alpha[s] * temp_rate(s, i, j, k); });
+        const double sk = sum_kappa(i, j, k), dp = del_p_dilatate(i, j, k);
+        bool ok = true;
+        unrolled_for<N>([&](int r) {
+          const double theta = vol_frac(r, i, j, k), kap = kappa(r, i, j, k);
+          const double mass = rho(r, i, j, k) * cell_volume;
+          double vl = mass * sp_vol(r, i, j, k) - theta * kap * cell_volume * dp +
+                      dt * cell_volume * (theta * alpha[r] * temp_rate(r, i, j, k) - theta * kap / sk * x);
+          // A reaction's new mass takes dm_r v_new, and every material gives up its share
+          // of that volume by the increment dP_mx it causes (E20): sum_r of both is zero.
+          if constexpr (WithMass)
+            vl += mass_source(r, i, j, k) * source_sp_vol(r, i, j, k) -
+                  theta * kap * cell_volume * del_p_mass(i, j, k);
+          const double floor = floor_scale * sp_vol(r, i, j, k);
+          vl = vl < floor ? floor : vl;
+          ok = ok & (vl > 0.0);
+          sp_vol_L(r, i, j, k) = vl / mass_L(r, i, j, k);
+        });
+        return ok ? 0.0 : 1.0;
+      });
+  return long(bad);
+}
+
+}  // namespace detail
+
 inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume, double dt, bool clamp,
                                        const MaterialTable& mats, const ConstField4& rho, const ConstField4& mass_L,
                                        const ConstField4& sp_vol, const ConstField4& vol_frac,
@@ -25,37 +77,17 @@ inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume
                                        const ConstField4& temp_rate, const ConstField4& mass_source,
                                        const ConstField4& source_sp_vol, const ConstField3& del_p_mass,
                                        const Field4& sp_vol_L) {
-  const bool with_mass = mass_source.data() != nullptr;
   long bad = 0;
-  Kokkos::parallel_reduce(
-      "mpmice::lagrangian_specific_volume", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, long& nbad) {
-        const int n = mats.count;
-        double x = 0;
-        for (int s = 0; s < n; ++s)
-          x += vol_frac(s, i, j, k) * eos_alpha(mats.eos[s], 1.0 / sp_vol(s, i, j, k), temp(s, i, j, k)) *
-               temp_rate(s, i, j, k);
-        const double sk = sum_kappa(i, j, k), dp = del_p_dilatate(i, j, k);
-        bool ok = true;
-        for (int r = 0; r < n; ++r) {
-          const double theta = vol_frac(r, i, j, k), kap = kappa(r, i, j, k);
-          const double alpha = eos_alpha(mats.eos[r], 1.0 / sp_vol(r, i, j, k), temp(r, i, j, k));
-          const double mass = rho(r, i, j, k) * cell_volume;
-          double vl = mass * sp_vol(r, i, j, k) - theta * kap * cell_volume * dp +
-                      dt * cell_volume * (theta * alpha * temp_rate(r, i, j, k) - theta * kap / sk * x);
-          // A reaction's new mass takes dm_r v_new, and every material gives up its share
-          // of that volume by the increment dP_mx it causes (E20): sum_r of both is zero.
-          if (with_mass)
-            vl += mass_source(r, i, j, k) * source_sp_vol(r, i, j, k) -
-                  theta * kap * cell_volume * del_p_mass(i, j, k);
-          const double floor = tiny_rho * cell_volume * sp_vol(r, i, j, k);
-          if (clamp && vl < floor) vl = floor;
-          if (!(vl > 0.0)) ok = false;
-          sp_vol_L(r, i, j, k) = vl / mass_L(r, i, j, k);
-        }
-        if (!ok) ++nbad;
-      },
-      bad);
+  const bool with_mass = mass_source.data() != nullptr;
+  with_material_count(mats.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    bad = with_mass ? detail::lagrangian_specific_volume_n<N, true>(
+                          cells, cell_volume, dt, clamp, mats, rho, mass_L, sp_vol, vol_frac, kappa, sum_kappa,
+                          del_p_dilatate, temp, temp_rate, mass_source, source_sp_vol, del_p_mass, sp_vol_L)
+                    : detail::lagrangian_specific_volume_n<N, false>(
+                          cells, cell_volume, dt, clamp, mats, rho, mass_L, sp_vol, vol_frac, kappa, sum_kappa,
+                          del_p_dilatate, temp, temp_rate, mass_source, source_sp_vol, del_p_mass, sp_vol_L);
+  });
   return bad;
 }
 
