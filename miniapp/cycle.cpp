@@ -653,12 +653,12 @@ void Cycle::add_lagrangian_steps() {
         const auto out = ctx.write<Field4>("sp_vol_L_CC");
         const ConstField4 mass_source = reacting ? ConstField4(ctx.read<Field4>("reaction_mass_CC")) : ConstField4();
         const ConstField4 source_sp_vol = reacting ? ConstField4(ctx.read<Field4>("reaction_sp_vol_CC")) : ConstField4();
-        const long bad = lagrangian_specific_volume(
-            owned, V, dt, clamp, mats, ctx.read<Field4>("rho_CC"), ctx.read<Field4>("mass_L_CC"),
-            ctx.read<Field4>("sp_vol_equil_CC"),
+        const SpecificVolumeInputs in{
+            ctx.read<Field4>("rho_CC"), ctx.read<Field4>("mass_L_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
             ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>("kappa_CC"), ctx.read<Field3>("sumKappa_CC"),
             ctx.read<Field3>("delP_Dilatate"), ctx.read<Field4>(temp_before), ctx.read<Field4>("Tdot_CC"),
-            mass_source, source_sp_vol, ctx.read<Field3>("delP_MassX"), out);
+            mass_source, source_sp_vol, ctx.read<Field3>("delP_MassX")};
+        const long bad = lagrangian_specific_volume(owned, V, dt, clamp, mats, in, out);
         if (global_sum(comm, bad) > 0) throw RedoStep("a Lagrangian specific volume is not positive (E32)");
         specific_volume_from_density(with_extra, owned, n, ctx.read<Field4>("vol_frac_CC"),
                                      ctx.read<Field4>("rho_CC"), out);

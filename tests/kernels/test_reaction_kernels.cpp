@@ -252,11 +252,12 @@ TEST(ReactionVolume, NewGasVolumeKeepsTheCellVolume) {
   Field4 out("out", 2, 1, 1, 1);
   auto run = [&](bool with_source) {
     const double ml1 = theta[1] / v * V + (with_source ? dm : 0.0);
-    lagrangian_specific_volume(c.cell, V, 1e-7, false, c.mats, rho, GasCell::pair("mL", theta[0] / v * V, ml1),
-                               GasCell::pair("v", v, v), GasCell::pair("theta", theta[0], theta[1]),
-                               GasCell::pair("kappa", kappa, kappa), GasCell::one("sk", sk), GasCell::one("dpd", 0.0),
-                               GasCell::pair("T", t, t), zero, with_source ? GasCell::pair("dm", 0.0, dm) : ConstField4(),
-                               GasCell::pair("vnew", 0.0, v_new), GasCell::one("dpmx", dp_mx), out);
+    const SpecificVolumeInputs in{rho, GasCell::pair("mL", theta[0] / v * V, ml1), GasCell::pair("v", v, v),
+                                  GasCell::pair("theta", theta[0], theta[1]), GasCell::pair("kappa", kappa, kappa),
+                                  GasCell::one("sk", sk), GasCell::one("dpd", 0.0), GasCell::pair("T", t, t), zero,
+                                  with_source ? GasCell::pair("dm", 0.0, dm) : ConstField4(),
+                                  GasCell::pair("vnew", 0.0, v_new), GasCell::one("dpmx", dp_mx)};
+    lagrangian_specific_volume(c.cell, V, 1e-7, false, c.mats, in, out);
     return std::array<double, 2>{GasCell::at(out, 0) * theta[0] / v * V, GasCell::at(out, 1) * ml1};
   };
   const auto plain = run(false), burning = run(true);

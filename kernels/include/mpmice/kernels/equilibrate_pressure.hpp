@@ -100,66 +100,81 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, con
 // cell, 0 if none. With only ideal gases (AllIdeal) sum theta_r(p) = 1 has the exact
 // root p = sum_r rhoB_r (gamma_r - 1) c_v,r T_r (theta_r = rhoB_r (gamma_r - 1) c_v,r T_r / p,
 // E48), which the Newton iteration would reach to its tolerance (100 ulps) after a
-// chain of dependent divisions.
+// chain of dependent divisions; that path has no branch, so the loop over cells vectorises.
 template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const long nj = in.rho.extent(2), nk = in.rho.extent(3);
-  return long(reduce_over_index<Reduction::max>(
-      "mpmice::equilibrate_pressure", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-        double temp[N], rho_bulk[N], rho_micro[N], theta[N];
-        // (E14): start from last step's micro densities.
-        double tmv = 0;
-        unrolled_for<N>([&](int r) {
-          temp[r] = in.temp(r, i, j, k);
-          rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
-          theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
-          tmv += theta[r];
-        });
-        unrolled_for<N>([&](int r) {
-          theta[r] /= tmv;
-          rho_bulk[r] = theta[r] * rho_micro[r];
-        });
-        double press = in.press(i, j, k);
-        bool ok = true;
-        if (AllIdeal) {
-          // No branch in this path: the loop over cells vectorises.
-          press = 0;
-          unrolled_for<N>([&](int r) {
-            press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
-          });
-          unrolled_for<N>([&](int r) {
-            rho_micro[r] = ideal_gas_density(mats.eos[r], press, temp[r]);
-            theta[r] = rho_bulk[r] / rho_micro[r];
-          });
-        } else {
-          ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-          if (!ok) {
-            press = in.press(i, j, k);
-            ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-          }
-        }
-        bool sane = ok & (press > 0.0) & math::isfinite(press);
-        // (E16)
-        double sum_kappa = 0, tmv_eq = 0;
-        unrolled_for<N>([&](int r) {
-          sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
-          const double c2 = AllIdeal ? ideal_gas_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r])
-                                     : eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
-          const double v = 1.0 / rho_micro[r];
-          const double kappa = v / c2;
-          out.vol_frac(r, i, j, k) = theta[r];
-          out.sp_vol(r, i, j, k) = v;
-          out.speed_sound(r, i, j, k) = math::sqrt(c2);
-          out.kappa(r, i, j, k) = kappa;
-          sum_kappa += theta[r] * kappa;
-          tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
-        });
-        out.press_eq(i, j, k) = press;
-        out.sum_kappa(i, j, k) = sum_kappa;
-        out.tmv(i, j, k) = tmv_eq;
-        return sane ? 0.0 : double((i * nj + j) * nk + k + 1);  // 1 + the failing cell's index
-      }));
+  // One cell's equilibration; true if its state is sane.
+  const auto equilibrate_cell = KOKKOS_LAMBDA(long i, long j, long k) {
+    double temp[N], rho_bulk[N], rho_micro[N], theta[N];
+    // (E14): start from last step's micro densities.
+    double tmv = 0;
+    unrolled_for<N>([&](int r) {
+      temp[r] = in.temp(r, i, j, k);
+      rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
+      theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
+      tmv += theta[r];
+    });
+    unrolled_for<N>([&](int r) {
+      theta[r] /= tmv;
+      rho_bulk[r] = theta[r] * rho_micro[r];
+    });
+    double press = in.press(i, j, k);
+    bool ok = true;
+    if (AllIdeal) {
+      press = 0;
+      unrolled_for<N>([&](int r) {
+        press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
+      });
+      unrolled_for<N>([&](int r) {
+        rho_micro[r] = ideal_gas_density(mats.eos[r], press, temp[r]);
+        theta[r] = rho_bulk[r] / rho_micro[r];
+      });
+    } else {
+      ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+      if (!ok) {
+        press = in.press(i, j, k);
+        ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+      }
+    }
+    bool sane = ok & (press > 0.0) & math::isfinite(press);
+    // (E16)
+    double sum_kappa = 0, tmv_eq = 0;
+    unrolled_for<N>([&](int r) {
+      sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
+      const double c2 = AllIdeal ? ideal_gas_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r])
+                                 : eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
+      const double v = 1.0 / rho_micro[r];
+      const double kappa = v / c2;
+      out.vol_frac(r, i, j, k) = theta[r];
+      out.sp_vol(r, i, j, k) = v;
+      out.speed_sound(r, i, j, k) = math::sqrt(c2);
+      out.kappa(r, i, j, k) = kappa;
+      sum_kappa += theta[r] * kappa;
+      tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
+    });
+    out.press_eq(i, j, k) = press;
+    out.sum_kappa(i, j, k) = sum_kappa;
+    out.tmv(i, j, k) = tmv_eq;
+    return sane;
+  };
+  // Whether any cell failed, as a vectorisable max of 0/1 (a cell index would need a
+  // long -> double conversion that AVX2 lacks, and the loop would stay scalar).
+  const double failed = reduce_over_index<Reduction::max>(
+      "mpmice::equilibrate_pressure", cells,
+      KOKKOS_LAMBDA(long i, long j, long k) { return equilibrate_cell(i, j, k) ? 0.0 : 1.0; });
+  if (failed == 0.0) return 0;
+  // Rarely: find a failing cell, by equilibrating again (the same inputs, the same outputs).
+  long bad = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::equilibrate_pressure_failure", cells.policy(),
+      KOKKOS_LAMBDA(int i, int j, int k, long& b) {
+        const long id = (long(i) * nj + j) * nk + k + 1;
+        if (!equilibrate_cell(i, j, k) && id > b) b = id;
+      },
+      Kokkos::Max<long>(bad));
+  return bad;
 }
 
 }  // namespace detail

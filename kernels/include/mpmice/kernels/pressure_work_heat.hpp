@@ -14,6 +14,7 @@
 /// energy of that leak is never resolved by cell velocities; the work is lost instead of
 /// heating the gas, as a throttled gas is heated by its friction. This kernel returns
 /// the difference, per cell, as heat.
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
@@ -34,6 +35,94 @@ struct PressureWorkInputs {
   ConstVectorField4 mom_source;              ///< Q_r (E22)
   ConstVectorField4 vel_me;                  ///< u_r after the exchange (E31)
 };
+
+namespace detail {
+
+// pressure_work_heat() for N materials, with or without a rigid one. The material
+// kinds enter as factors 1 or 0 (exact for finite terms) instead of branches, so the
+// loop over cells vectorises.
+template <int N, bool HasRigid>
+double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                            const Kokkos::Array<double, 3> gravity, const MaterialTable& mats,
+                            const PressureWorkInputs& in, const Field4& temp_me, const Field4& temp_rate) {
+  const double hx = h[0], hy = h[1], hz = h[2];
+  const double V = hx * hy * hz;
+  const PressureWorkInputs f = in;
+  Kokkos::Array<double, N> ice, rigid, cv;
+  for (int r = 0; r < N; ++r) {
+    ice[r] = mats.is_ice(r) ? 1.0 : 0.0;
+    rigid[r] = mats.is_rigid(r) ? 1.0 : 0.0;
+    cv[r] = mats.eos[r].cv;
+  }
+  return reduce_over_index<Reduction::sum>(
+      "mpmice::pressure_work_heat", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        // A rigid body's prescribed motion works from outside on its cells and, through
+        // their faces, on the cells next to them: no balance there.
+        double rigid_nearby = 0;  // the largest rigid volume fraction here and next door
+        if constexpr (HasRigid) {
+          unrolled_for<N>([&](int r) {
+            double theta = f.vol_frac(r, i, j, k);
+            unrolled_for<3>([&](int d) {
+              const double lo = f.vol_frac(r, i - (d == 0), j - (d == 1), k - (d == 2));
+              const double hi = f.vol_frac(r, i + (d == 0), j + (d == 1), k + (d == 2));
+              theta = lo > theta ? lo : theta;
+              theta = hi > theta ? hi : theta;
+            });
+            theta *= rigid[r];
+            rigid_nearby = theta > rigid_nearby ? theta : rigid_nearby;
+          });
+        }
+        const bool near_rigid = rigid_nearby > 1e-6;
+        // Flux form: -sum over the six faces of (outward sign) p^f Phi^f.
+        double flux_work = 0;
+        unrolled_for<3>([&](int d) {
+          const long hi[3] = {i + (d == 0), j + (d == 1), k + (d == 2)};
+          flux_work -= f.press_face[d](hi[0], hi[1], hi[2]) * f.face_flux[d](hi[0], hi[1], hi[2]) -
+                       f.press_face[d](i, j, k) * f.face_flux[d](i, j, k);
+        });
+        // The solids' push on the fluids: their share of the solids' volume flux, p V
+        // (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]. What (E23) charged: the sum
+        // of the fluids' energy sources (its mass-exchange part sums to zero in a cell).
+        double theta_kappa = 0, solid_adv = 0, charged = 0;
+        unrolled_for<N>([&](int r) {
+          const double theta = f.vol_frac(r, i, j, k), kappa = f.kappa(r, i, j, k);
+          solid_adv += (1.0 - ice[r]) * f.adv_vol_frac(r, i, j, k);
+          charged += ice[r] * f.work(r, i, j, k);
+          theta_kappa += theta > 1e-6 ? ice[r] * (theta * kappa) : 0.0;
+        });
+        const double solid_push = V * f.press(i, j, k) * theta_kappa * solid_adv / f.sum_kappa(i, j, k);
+        // Kinetic energy from the fluids' pressure kick and from the exchange.
+        double kinetic = 0, thermal = 0;
+        unrolled_for<N>([&](int r) {
+          const double m = f.mass_L(r, i, j, k);
+          const double weight = ice[r] * (f.rho(r, i, j, k) * V * dt);
+          double after = 0, before = 0;
+          unrolled_for<3>([&](int d) {
+            const double u = f.vel_me[d](r, i, j, k);
+            const double kick = ice[r] * (f.mom_source[d](r, i, j, k) - weight * gravity[d]);
+            const double p0 = f.mom_L[d](r, i, j, k) - kick;
+            after += u * u;
+            before += p0 * p0;
+          });
+          kinetic += 0.5 * m * after - 0.5 * before / m;
+          thermal += (1.0 - rigid[r]) * (m * cv[r] * temp_me(r, i, j, k));
+        });
+        // At most half the cell's thermal energy leaves in one step (a cell of trace
+        // materials next to a large pressure jump); the rest is not put back.
+        double heat = flux_work + solid_push - charged - kinetic;
+        heat = heat < -0.5 * thermal ? -0.5 * thermal : heat;
+        heat = near_rigid ? 0.0 : heat;
+        const double scale = heat / thermal;
+        unrolled_for<N>([&](int r) {
+          const double dtemp = near_rigid ? 0.0 : (1.0 - rigid[r]) * (scale * temp_me(r, i, j, k));
+          temp_me(r, i, j, k) += dtemp;
+          temp_rate(r, i, j, k) += dtemp / dt;
+        });
+        return heat;
+      });
+}
+
+}  // namespace detail
 
 /// Over `cells`, the heat
 ///   heat_c = - sum_faces (outward) p^f Phi^f          the fluids' work in flux form
@@ -56,76 +145,14 @@ struct PressureWorkInputs {
 inline double pressure_work_heat(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                                  const Kokkos::Array<double, 3> gravity, const MaterialTable& mats,
                                  const PressureWorkInputs& in, const Field4& temp_me, const Field4& temp_rate) {
-  const double hx = h[0], hy = h[1], hz = h[2];
-  const double V = hx * hy * hz;
-  const PressureWorkInputs f = in;
+  bool has_rigid = false;
+  for (int r = 0; r < mats.count; ++r) has_rigid = has_rigid || mats.is_rigid(r);
   double total = 0;
-  Kokkos::parallel_reduce(
-      "mpmice::pressure_work_heat", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& sum) {
-        const int n = mats.count;
-        // A rigid body's prescribed motion works from outside on its cells and, through
-        // their faces, on the cells next to them: no balance there.
-        for (int r = 0; r < n; ++r) {
-          if (!mats.is_rigid(r)) continue;
-          if (f.vol_frac(r, i, j, k) > 1e-6) return;
-          for (int d = 0; d < 3; ++d)
-            for (int side = -1; side <= 1; side += 2) {
-              const int a = i + (d == 0) * side, b = j + (d == 1) * side, e = k + (d == 2) * side;
-              if (f.vol_frac(r, a, b, e) > 1e-6) return;
-            }
-        }
-        // Flux form: -sum over the six faces of (outward sign) p^f Phi^f.
-        double flux_work = 0;
-        for (int d = 0; d < 3; ++d) {
-          const int hi[3] = {i + (d == 0), j + (d == 1), k + (d == 2)};
-          flux_work -= f.press_face[d](hi[0], hi[1], hi[2]) * f.face_flux[d](hi[0], hi[1], hi[2]) -
-                       f.press_face[d](i, j, k) * f.face_flux[d](i, j, k);
-        }
-        // The solids' push on the fluids: their share of the solids' volume flux, p V
-        // (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]. What (E23) charged: the sum
-        // of the fluids' energy sources (its mass-exchange part sums to zero in a cell).
-        double theta_kappa = 0, solid_adv = 0, charged = 0;
-        for (int r = 0; r < n; ++r) {
-          if (!mats.is_ice(r)) {
-            solid_adv += f.adv_vol_frac(r, i, j, k);
-            continue;
-          }
-          charged += f.work(r, i, j, k);
-          if (f.vol_frac(r, i, j, k) > 1e-6) theta_kappa += f.vol_frac(r, i, j, k) * f.kappa(r, i, j, k);
-        }
-        const double solid_push = V * f.press(i, j, k) * theta_kappa * solid_adv / f.sum_kappa(i, j, k);
-        // Kinetic energy from the fluids' pressure kick and from the exchange.
-        double kinetic = 0, thermal = 0;
-        for (int r = 0; r < n; ++r) {
-          const double m = f.mass_L(r, i, j, k);
-          const bool ice = mats.is_ice(r);
-          const double weight = ice ? f.rho(r, i, j, k) * V * dt : 0.0;
-          double after = 0, before = 0;
-          for (int d = 0; d < 3; ++d) {
-            const double u = f.vel_me[d](r, i, j, k);
-            const double kick = ice ? f.mom_source[d](r, i, j, k) - weight * gravity[d] : 0.0;
-            const double p0 = f.mom_L[d](r, i, j, k) - kick;
-            after += u * u;
-            before += p0 * p0;
-          }
-          kinetic += 0.5 * m * after - 0.5 * before / m;
-          if (!mats.is_rigid(r)) thermal += m * mats.eos[r].cv * temp_me(r, i, j, k);
-        }
-        // At most half the cell's thermal energy leaves in one step (a cell of trace
-        // materials next to a large pressure jump); the rest is not put back.
-        double heat = flux_work + solid_push - charged - kinetic;
-        if (heat < -0.5 * thermal) heat = -0.5 * thermal;
-        const double scale = heat / thermal;
-        for (int r = 0; r < n; ++r) {
-          if (mats.is_rigid(r)) continue;
-          const double dtemp = scale * temp_me(r, i, j, k);
-          temp_me(r, i, j, k) += dtemp;
-          temp_rate(r, i, j, k) += dtemp / dt;
-        }
-        sum += heat;
-      },
-      total);
+  with_material_count(mats.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    total = has_rigid ? detail::pressure_work_heat_n<N, true>(cells, h, dt, gravity, mats, in, temp_me, temp_rate)
+                      : detail::pressure_work_heat_n<N, false>(cells, h, dt, gravity, mats, in, temp_me, temp_rate);
+  });
   return total;
 }
 
