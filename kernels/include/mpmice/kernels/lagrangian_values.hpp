@@ -2,17 +2,49 @@
 /// \file lagrangian_values.hpp
 /// \brief Step 16: the ICE materials' mass, momentum and internal energy after the
 ///        Lagrangian phase, before exchange (E29), and a reaction's products (E30).
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
 
+namespace detail {
+
+// lagrangian_mass() and lagrangian_momentum_energy() for N materials: the loop over
+// materials written out, so the loop over cells vectorises.
+template <int N>
+void lagrangian_mass_n(const IndexBox& cells_with_extra, double cell_volume, const ConstField4& rho,
+                       const Field4& mass_L) {
+  for_each_index(
+      "mpmice::lagrangian_mass", cells_with_extra, KOKKOS_LAMBDA(long i, long j, long k) {
+        unrolled_for<N>([&](int m) { mass_L(m, i, j, k) = rho(m, i, j, k) * cell_volume; });
+      });
+}
+
+template <int N>
+void lagrangian_momentum_energy_n(const IndexBox& cells, const MaterialTable& mats, const ConstField4& mass_L,
+                                  const ConstVectorField4& vel, const ConstField4& temp,
+                                  const ConstVectorField4& mom_source, const ConstField4& int_eng_source,
+                                  const VectorField4& mom_L, const Field4& int_eng_L) {
+  Kokkos::Array<double, N> cv;
+  for (int m = 0; m < N; ++m) cv[m] = mats.eos[m].cv;
+  for_each_index(
+      "mpmice::lagrangian_momentum_energy", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        unrolled_for<N>([&](int m) {
+          const double mass = mass_L(m, i, j, k);
+          unrolled_for<3>([&](int d) { mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k); });
+          int_eng_L(m, i, j, k) = mass * cv[m] * temp(m, i, j, k) + int_eng_source(m, i, j, k);
+        });
+      });
+}
+
+}  // namespace detail
+
 /// mL_r = rho_r V on `cells_with_extra` (advection reads the extra cells' mass).
 inline void lagrangian_mass(const IndexBox& cells_with_extra, double cell_volume, int materials,
                             const ConstField4& rho, const Field4& mass_L) {
-  Kokkos::parallel_for(
-      "mpmice::lagrangian_mass", cells_with_extra.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        for (int m = 0; m < materials; ++m) mass_L(m, i, j, k) = rho(m, i, j, k) * cell_volume;
-      });
+  with_material_count(materials, [&](auto n) {
+    detail::lagrangian_mass_n<decltype(n)::value>(cells_with_extra, cell_volume, rho, mass_L);
+  });
 }
 
 /// PL_r = mL_r u_r^n + Q_r, EL_r = mL_r c_v T_r^n + W_r on `cells` (E29).
@@ -21,15 +53,10 @@ inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTabl
                                        const ConstField4& temp, const ConstVectorField4& mom_source,
                                        const ConstField4& int_eng_source,
                                        const VectorField4& mom_L, const Field4& int_eng_L) {
-  Kokkos::parallel_for(
-      "mpmice::lagrangian_momentum_energy", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        for (int m = 0; m < mats.count; ++m) {
-          const double mass = mass_L(m, i, j, k);
-          for (int d = 0; d < 3; ++d)
-            mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k);
-          int_eng_L(m, i, j, k) = mass * mats.eos[m].cv * temp(m, i, j, k) + int_eng_source(m, i, j, k);
-        }
-      });
+  with_material_count(mats.count, [&](auto n) {
+    detail::lagrangian_momentum_energy_n<decltype(n)::value>(cells, mats, mass_L, vel, temp, mom_source,
+                                                             int_eng_source, mom_L, int_eng_L);
+  });
 }
 
 /// (E30) for the products of a reaction: mL_r += dm_r, PL_r += dP_r, EL_r += dE_r on

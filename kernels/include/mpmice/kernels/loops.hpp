@@ -1,9 +1,11 @@
 #pragma once
 /// \file loops.hpp
-/// \brief The two loop shapes of the cell kernels: `for_each_index` runs a body over
-///        every index of a box in parallel, `unrolled_for` writes out a short loop whose
-///        length is known at compile time (a cell's materials, a small solve's rows).
-///        Together they let the compiler vectorise a cell kernel across cells.
+/// \brief The loop shapes of the cell kernels: `for_each_index` runs a body over every
+///        index of a box in parallel, `reduce_over_index` also sums or maximises what
+///        the body returns, `unrolled_for` writes out a short loop whose length is known
+///        at compile time (a cell's materials, a small solve's rows). Together they let
+///        the compiler vectorise a cell kernel across cells (docs/design.md, "Cell loops
+///        that vectorise").
 #include <string>
 #include <utility>
 
@@ -82,10 +84,11 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 }
 
 /// Like `for_each_index`, for a body f(i, j, k) that returns a double: returns the
-/// sum of the values, or the largest of them and 0 (e.g. 1 + a failing cell's linear
-/// index, exact in a double). The sum's order depends on the rows' lengths, not on the
-/// threads. A double returned by value, not a long raised through a reference: with
-/// either, GCC 12 did not vectorise the loop (AVX2 has no 64-bit integer max).
+/// sum of the values, or the largest of them and 0 (e.g. a 0/1 failure flag). Within a
+/// row the sum's order depends only on the row's length; the rows' sums are combined
+/// as any Kokkos parallel_reduce combines them. A double returned by value, not a long
+/// raised through a reference: with either, GCC 12 did not vectorise the loop (AVX2 has
+/// no 64-bit integer max or long -> double conversion).
 template <Reduction R, class F>
 double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
   double result = 0;
