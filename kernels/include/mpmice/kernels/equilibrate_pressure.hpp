@@ -190,8 +190,9 @@ inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double c
   for (int r = 0; r < mats.count; ++r) all_ideal = all_ideal && mats.eos[r].type == EosType::ideal_gas;
   with_material_count(mats.count, [&](auto n) {
     constexpr int N = decltype(n)::value;
-    bad_cell = all_ideal ? detail::equilibrate_pressure_n<N, true>(cells, cell_volume, mats, in, out)
-                         : detail::equilibrate_pressure_n<N, false>(cells, cell_volume, mats, in, out);
+    with_flag(all_ideal, [&](auto ideal) {
+      bad_cell = detail::equilibrate_pressure_n<N, decltype(ideal)::value>(cells, cell_volume, mats, in, out);
+    });
   });
   EquilibrationFailure f;
   if (bad_cell > 0) {

@@ -54,4 +54,14 @@ void with_material_count(int n, F&& f) {
   }
 }
 
+/// Calls f(std::true_type{}) or f(std::false_type{}): a run-time choice (all materials
+/// ideal gases, mass sources present, ...) made a template argument of a kernel.
+template <class F>
+void with_flag(bool flag, F&& f) {
+  if (flag)
+    f(std::true_type{});
+  else
+    f(std::false_type{});
+}
+
 }  // namespace mpmice

@@ -57,12 +57,10 @@ inline void pressure_update(const IndexBox& cells, double cell_volume, int mater
   const bool with_mass = mass_source.data() != nullptr;
   with_material_count(materials, [&](auto n) {
     constexpr int N = decltype(n)::value;
-    if (with_mass)
-      detail::pressure_update_n<N, true>(cells, cell_volume, adv_vol_frac, mass_source, sp_vol, sum_kappa, press_eq,
-                                         del_p_dilatate, del_p_mass, press);
-    else
-      detail::pressure_update_n<N, false>(cells, cell_volume, adv_vol_frac, mass_source, sp_vol, sum_kappa,
-                                          press_eq, del_p_dilatate, del_p_mass, press);
+    with_flag(with_mass, [&](auto mass) {
+      detail::pressure_update_n<N, decltype(mass)::value>(cells, cell_volume, adv_vol_frac, mass_source, sp_vol,
+                                                          sum_kappa, press_eq, del_p_dilatate, del_p_mass, press);
+    });
   });
 }
 

@@ -150,8 +150,10 @@ inline double pressure_work_heat(const IndexBox& cells, const Kokkos::Array<doub
   double total = 0;
   with_material_count(mats.count, [&](auto n) {
     constexpr int N = decltype(n)::value;
-    total = has_rigid ? detail::pressure_work_heat_n<N, true>(cells, h, dt, gravity, mats, in, temp_me, temp_rate)
-                      : detail::pressure_work_heat_n<N, false>(cells, h, dt, gravity, mats, in, temp_me, temp_rate);
+    with_flag(has_rigid, [&](auto rigid) {
+      total = detail::pressure_work_heat_n<N, decltype(rigid)::value>(cells, h, dt, gravity, mats, in, temp_me,
+                                                                      temp_rate);
+    });
   });
   return total;
 }

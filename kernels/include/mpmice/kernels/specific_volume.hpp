@@ -97,8 +97,10 @@ inline long lagrangian_specific_volume(const IndexBox& cells, double cell_volume
   const bool with_mass = in.mass_source.data() != nullptr;
   with_material_count(mats.count, [&](auto n) {
     constexpr int N = decltype(n)::value;
-    bad = with_mass ? detail::lagrangian_specific_volume_n<N, true>(cells, cell_volume, dt, clamp, mats, in, sp_vol_L)
-                    : detail::lagrangian_specific_volume_n<N, false>(cells, cell_volume, dt, clamp, mats, in, sp_vol_L);
+    with_flag(with_mass, [&](auto mass) {
+      bad = detail::lagrangian_specific_volume_n<N, decltype(mass)::value>(cells, cell_volume, dt, clamp, mats, in,
+                                                                           sp_vol_L);
+    });
   });
   return bad;
 }
