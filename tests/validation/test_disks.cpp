@@ -1,6 +1,6 @@
 // Two elastic disks collide (problems/disks.yaml): total momentum, zero at the start,
-// stays below 1e-12 of the momentum scale sum m |v| through the collision, and both
-// disks rebound (each disk's momentum along the approach direction changes sign).
+// stays zero through the collision to the round-off of the order-independent sums, and
+// both disks rebound (each disk's momentum along the approach direction changes sign).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,8 +22,19 @@ TEST(Disks, MomentumConservedAndBothRebound) {
   double worst = 0;
   for (const auto& row : history)
     for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(row[4 + d]) / scale);
-  std::printf("disks: largest |total momentum| / (M |v0|) = %.3e over %zu steps\n", worst, history.size() - 1);
-  EXPECT_LE(worst, 1e-12);
+  // The bound: every particle's contribution to a node sum is rounded to a quantum of
+  // 2^-40 of the largest contribution (quanta.hpp), about 2^-40 m |v0| for momentum and
+  // likewise for the internal force's impulse. With N particles, up to 27 nodes each,
+  // both scatters and all steps, these independent roundings (standard deviation
+  // q / sqrt(12) each) add up to sigma = sqrt(2 27 N steps / 12) 2^-40 / N of M |v0|
+  // (1.6e-12 here; the largest measured is 1.4e-12, 0.7e-12 before the weights'
+  // rounding changed in session 8). The test allows 10 sigma: a real leak of momentum,
+  // such as a node force without mass, is orders of magnitude larger.
+  const double n = double(pb->particles[0].size()), steps = double(history.size() - 1);
+  const double sigma = std::sqrt(2.0 * 27.0 * n * steps / 12.0) * std::ldexp(1.0, -40) / n;
+  std::printf("disks: largest |total momentum| / (M |v0|) = %.3e over %.0f steps (rounding sigma %.2e)\n", worst,
+              steps, sigma);
+  EXPECT_LE(worst, 10 * sigma);
 
   // Each disk's momentum along (1, 1)/sqrt(2): the lower-left disk started at +,
   // the upper-right one at -; after the rebound both have changed sign.

@@ -4,75 +4,129 @@
 ///        fraction) and position (E35), and the particle kinematics: velocity
 ///        gradient, deformation gradient and volume (E36). Weights use the old
 ///        positions.
+#include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/shape.hpp>
 #include <mpmice/kernels/solid_models.hpp>
 
 namespace mpmice {
 
-/// The deformation over one step, (I + L dt/n)^n with n = min(max(1, 2 floor(|L| dt)),
-/// 10000) sub-steps (E36): F_new = increment F_old.
+/// The number of sub-steps of (E36): n = min(max(1, 2 floor(|L| dt)), 10000).
+KOKKOS_INLINE_FUNCTION int deformation_substeps(const Mat3& L, double dt) {
+  const int nsub = int(2.0 * math::floor(L.norm() * dt));
+  return nsub < 1 ? 1 : (nsub > 10000 ? 10000 : nsub);
+}
+
+/// The deformation over one step, (I + L dt/n)^n with n sub-steps (E36):
+/// F_new = increment F_old.
 KOKKOS_INLINE_FUNCTION Mat3 deformation_increment(const Mat3& L, double dt) {
-  int nsub = int(2.0 * math::floor(L.norm() * dt));
-  nsub = nsub < 1 ? 1 : (nsub > 10000 ? 10000 : nsub);
+  const int nsub = deformation_substeps(L, dt);
   const Mat3 step = Mat3::identity() + (dt / nsub) * L;
-  Mat3 increment = Mat3::identity();
-  for (int s = 0; s < nsub; ++s) increment = step * increment;
+  Mat3 increment = step;
+  for (int s = 1; s < nsub; ++s) increment = step * increment;
   return increment;
 }
+
+namespace detail {
+/// (E35, E36) for the particles of a material that deforms; `Heat`: temp_rate given.
+/// Returns 1 if a particle's deformation needs more than one sub-step (its F and V are
+/// then left for `g2p_substeps`), else 0.
+template <class Shape, bool Heat>
+double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
+                     double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
+                     const ConstField4& temp_rate) {
+  constexpr int n = Shape::nodes;
+  const NodeStencil<n> nodes(vel_star[0], m);
+  const Kokkos::Array<ConstNodeArray, 3> v_node = {node_array(vel_star[0]), node_array(vel_star[1]),
+                                                   node_array(vel_star[2])};
+  const Kokkos::Array<ConstNodeArray, 3> a_node = {node_array(acc[0]), node_array(acc[1]), node_array(acc[2])};
+  const ConstNodeArray t_node = node_array(temp_rate);
+  return reduce_over_particles<Reduction::max>("mpmice::g2p", count, KOKKOS_LAMBDA(long p) {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const long first = nodes.at(wt.first), middle = nodes.middle(first);
+    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0;
+    Mat3 L = Mat3::zero();
+    unrolled_for<n>([&](int a) {
+      unrolled_for<n>([&](int b) {
+        unrolled_for<n>([&](int c) {
+          const double S = wt.weight(a, b, c);
+          const long o = nodes.place(first, middle, a, b, c, S);
+          double g[3];
+          wt.gradient(a, b, c, g);
+          for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
+          if constexpr (Heat) ts += S * t_node(o);
+          for (int d = 0; d < 3; ++d) {
+            const double v = v_node[d](o);
+            vs[d] += S * v;
+            as[d] += S * a_node[d](o);
+            for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
+          }
+        });
+      });
+    });
+    for (int d = 0; d < 3; ++d) {
+      double& v = data(p, column(ParticleField::vx) + d);
+      v = (1.0 - pic_fraction) * (v + dt * as[d]) + pic_fraction * vs[d];
+      data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
+    }
+    data(p, column(ParticleField::temperature)) += dt * ts;
+    store_tensor(data, p, ParticleField::L00, L);
+    // One sub-step, F_new = (I + dt L) F, here; more are left to g2p_substeps.
+    const bool one_step = deformation_substeps(L, dt) == 1;
+    const Mat3 F = load_tensor(data, p, ParticleField::F00);
+    const Mat3 F_new = (Mat3::identity() + dt * L) * F;
+    double& volume = data(p, column(ParticleField::volume));
+    volume = one_step ? volume * (F_new.det() / F.det()) : volume;
+    store_tensor(data, p, ParticleField::F00, one_step ? F_new : F);
+    return one_step ? 0.0 : 1.0;
+  });
+}
+
+/// F and V of the particles whose deformation needs more than one sub-step (E36).
+inline void g2p_substeps(long count, const ParticleData& data, double dt) {
+  Kokkos::parallel_for(
+      "mpmice::g2p_substeps", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+        const Mat3 L = load_tensor(data, p, ParticleField::L00);
+        if (deformation_substeps(L, dt) == 1) return;
+        const Mat3 F = load_tensor(data, p, ParticleField::F00);
+        const Mat3 F_new = deformation_increment(L, dt) * F;
+        data(p, column(ParticleField::volume)) *= F_new.det() / F.det();
+        store_tensor(data, p, ParticleField::F00, F_new);
+      });
+}
+}  // namespace detail
 
 /// For the particles of material slot m: v_p <- (1-a)(v_p + dt sum S a_i) + a sum S v*_i,
 /// x_p += dt sum S v*_i, T_p += dt sum S aT_i (E35; `temp_rate` may be empty),
 /// L_p = sum v*_i (x) grad S_ip, F <- (I + L dt/n)^n F, V_p <- V_p J_new/J_old (E36).
 /// A rigid material moves with `rigid_velocity`.
+///
+/// The loop over particles vectorises (loops.hpp): the nodes are written out, a node of
+/// zero weight adds nothing (NodeStencil::place), and a particle whose deformation needs
+/// more than one sub-step (|L| dt >= 1, rare) is finished by a second, scalar pass.
 template <class Shape>
 void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
          double pic_fraction, bool rigid, Kokkos::Array<double, 3> rigid_velocity,
          const ConstVectorField4& vel_star, const ConstVectorField4& acc,
          const ConstField4& temp_rate = ConstField4()) {
-  const bool heat = temp_rate.data() != nullptr;
-  Kokkos::parallel_for(
-      "mpmice::g2p", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
-        if (rigid) {
-          for (int d = 0; d < 3; ++d) {
-            data(p, column(ParticleField::vx) + d) = rigid_velocity[d];
-            data(p, column(ParticleField::x) + d) += dt * rigid_velocity[d];
-          }
-          return;
-        }
-        double x[3], half[3];
-        particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-        double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0;
-        Mat3 L = Mat3::zero();
-        for (int a = 0; a < Shape::nodes; ++a)
-          for (int b = 0; b < Shape::nodes; ++b)
-            for (int c = 0; c < Shape::nodes; ++c) {
-              const double S = wt.weight(a, b, c);
-              if (S == 0.0) continue;
-              double g[3];
-              wt.gradient(a, b, c, g);
-              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              if (heat) ts += S * temp_rate(m, i, j, k);
-              for (int d = 0; d < 3; ++d) {
-                const double v = vel_star[d](m, i, j, k);
-                vs[d] += S * v;
-                as[d] += S * acc[d](m, i, j, k);
-                for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
-              }
-            }
-        for (int d = 0; d < 3; ++d) {
-          double& v = data(p, column(ParticleField::vx) + d);
-          v = (1.0 - pic_fraction) * (v + dt * as[d]) + pic_fraction * vs[d];
-          data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
-        }
-        data(p, column(ParticleField::temperature)) += dt * ts;
-        const Mat3 F = load_tensor(data, p, ParticleField::F00);
-        const Mat3 F_new = deformation_increment(L, dt) * F;
-        data(p, column(ParticleField::volume)) *= F_new.det() / F.det();
-        store_tensor(data, p, ParticleField::F00, F_new);
-        store_tensor(data, p, ParticleField::L00, L);
-      });
+  if (rigid) {
+    for_each_particle("mpmice::g2p_rigid", count, KOKKOS_LAMBDA(long p) {
+      for (int d = 0; d < 3; ++d) {
+        data(p, column(ParticleField::vx) + d) = rigid_velocity[d];
+        data(p, column(ParticleField::x) + d) += dt * rigid_velocity[d];
+      }
+    });
+    return;
+  }
+  double substepped = 0;
+  with_flag(temp_rate.data() != nullptr, [&](auto heat) {
+    substepped = detail::g2p_deforming<Shape, decltype(heat)::value>(grid, count, data, m, dt, pic_fraction,
+                                                                    vel_star, acc, temp_rate);
+  });
+  if (substepped > 0) detail::g2p_substeps(count, data, dt);
 }
 
 }  // namespace mpmice

@@ -1,11 +1,13 @@
 #pragma once
 /// \file loops.hpp
-/// \brief The loop shapes of the cell kernels: `for_each_index` runs a body over every
-///        index of a box in parallel, `reduce_over_index` also sums or maximises what
-///        the body returns, `unrolled_for` writes out a short loop whose length is known
-///        at compile time (a cell's materials, a small solve's rows). Together they let
-///        the compiler vectorise a cell kernel across cells (docs/design.md, "Cell loops
-///        that vectorise").
+/// \brief The loop shapes of the cell and particle kernels: `for_each_index` runs a
+///        body over every index of a box in parallel, `reduce_over_index` also sums or
+///        maximises what the body returns, `for_each_particle` and
+///        `reduce_over_particles` do the same over particles, `unrolled_for` writes
+///        out a short loop whose length is known at compile time (a cell's materials,
+///        a small solve's rows, a particle's nodes). Together they let
+///        the compiler vectorise a kernel across cells or particles (docs/design.md,
+///        "Cell loops that vectorise").
 #include <string>
 #include <utility>
 
@@ -28,37 +30,58 @@ namespace mpmice {
 enum class Reduction { sum, max };
 
 namespace detail {
-/// One row of `for_each_index`: k from lo to hi at fixed (i, j). Flattened (every
-/// call inside inlined), because a call left in the loop keeps it from vectorising.
-template <class F>
-MPMICE_FLATTEN void index_row(const F& f, long i, long j, long lo, long hi) {
+/// One run of `for_each_index` or `for_each_particle`: f(fixed..., k) for k from lo to
+/// hi (a row (i, j) of cells, or a chunk of particles). Flattened (every call inside
+/// inlined), because a call left in the loop keeps it from vectorising.
+template <class F, class... Fixed>
+MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
   MPMICE_PRAGMA_SIMD
-  for (long k = lo; k < hi; ++k) f(i, j, k);
+  for (long k = lo; k < hi; ++k) f(fixed..., k);
 }
 
-/// One row of `reduce_over_index`. It works on its own copy of the body: with the
-/// `omp simd` reduction, GCC did not hoist the views' addresses out of the loop when
-/// the body reads them through a reference and also stores to a view.
-template <Reduction R, class F>
-MPMICE_FLATTEN double index_row_reduce(const F& body, long i, long j, long lo, long hi) {
+/// One run of `reduce_over_index` or `reduce_over_particles`. It works on its own copy
+/// of the body: with the `omp simd` reduction, GCC did not hoist the views' addresses
+/// out of the loop when the body reads them through a reference and also stores to a view.
+template <Reduction R, class F, class... Fixed>
+MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... fixed) {
   const F f = body;
   double acc = 0;
   if constexpr (R == Reduction::sum) {
 #if defined(_OPENMP)
 #pragma omp simd reduction(+ : acc)
 #endif
-    for (long k = lo; k < hi; ++k) acc += f(i, j, k);
+    for (long k = lo; k < hi; ++k) acc += f(fixed..., k);
   } else {
 #if defined(_OPENMP)
 #pragma omp simd reduction(max : acc)
 #endif
     for (long k = lo; k < hi; ++k) {
-      const double v = f(i, j, k);
+      const double v = f(fixed..., k);
       acc = v > acc ? v : acc;
     }
   }
   return acc;
 }
+
+/// Kokkos's reduction of the runs' values: their sum, or their largest and 0.
+template <Reduction R, class Policy, class Run>
+double reduce_runs(const std::string& label, const Policy& runs, const Run& run) {
+  double result = 0;
+  const auto add = KOKKOS_LAMBDA(long r, double& v) {
+    const double value = run(r);
+    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
+  };
+  if constexpr (R == Reduction::sum)
+    Kokkos::parallel_reduce(label, runs, add, result);
+  else
+    Kokkos::parallel_reduce(label, runs, add, Kokkos::Max<double>(result));
+  if constexpr (R == Reduction::max) return result > 0 ? result : 0;  // Max starts from the lowest double
+  return result;
+}
+
+/// Particles per run of `for_each_particle` on the host: long enough for the vector
+/// loop, short enough that the threads share the work evenly.
+constexpr long particle_run = 256;
 }  // namespace detail
 
 /// Runs f(i, j, k) for every index of `box`, in parallel; the indices are `long`.
@@ -78,7 +101,7 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
   const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
   const long rows1 = box.extent(1);
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1), [=](long row) {
-    detail::index_row(f, lo0 + row / rows1, lo1 + row % rows1, lo2, hi2);
+    detail::simd_run(f, lo2, hi2, lo0 + row / rows1, lo1 + row % rows1);
   });
 #endif
 }
@@ -91,8 +114,8 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 /// no 64-bit integer max or long -> double conversion).
 template <Reduction R, class F>
 double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
-  double result = 0;
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  double result = 0;
   const auto body = KOKKOS_LAMBDA(int i, int j, int k, double& v) {
     const double value = f(i, j, k);
     if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
@@ -101,22 +124,47 @@ double reduce_over_index(const std::string& label, const IndexBox& box, const F&
     Kokkos::parallel_reduce(label, box.policy(), body, result);
   else
     Kokkos::parallel_reduce(label, box.policy(), body, Kokkos::Max<double>(result));
+  if constexpr (R == Reduction::max) return result > 0 ? result : 0;
+  return result;
 #else
   if (box.size() == 0) return 0;
   const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
   const long rows1 = box.extent(1);
-  const auto row = [=](long r, double& v) {
-    const double value = detail::index_row_reduce<R>(f, lo0 + r / rows1, lo1 + r % rows1, lo2, hi2);
-    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
-  };
-  const Kokkos::RangePolicy<ExecSpace> rows(0, box.extent(0) * rows1);
-  if constexpr (R == Reduction::sum)
-    Kokkos::parallel_reduce(label, rows, row, result);
-  else
-    Kokkos::parallel_reduce(label, rows, row, Kokkos::Max<double>(result));
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1), [=](long r) {
+    return detail::simd_run_reduce<R>(f, lo2, hi2, lo0 + r / rows1, lo1 + r % rows1);
+  });
 #endif
-  if constexpr (R == Reduction::max) return result > 0 ? result : 0;  // Max starts from the lowest double
-  return result;
+}
+
+/// Runs f(p) for particles p = 0 .. count - 1, in parallel; p is `long`. On the host
+/// each thread takes runs of `detail::particle_run` particles as `omp simd` loops: a
+/// particle kernel vectorises across particles when its body has no branches or
+/// loops of unknown length left (its nodes written out with `unrolled_for`), the node
+/// values then loaded by gathers. On a GPU this is a plain range.
+template <class F>
+void for_each_particle(const std::string& label, long count, const F& f) {
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
+#else
+  constexpr long run = detail::particle_run;
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
+    detail::simd_run(f, r * run, r * run + run < count ? r * run + run : count);
+  });
+#endif
+}
+
+/// Like `for_each_particle`, for a body f(p) that returns a double: their sum, or
+/// their largest and 0 (as `reduce_over_index`).
+template <Reduction R, class F>
+double reduce_over_particles(const std::string& label, long count, const F& f) {
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
+#else
+  constexpr long run = detail::particle_run;
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
+    return detail::simd_run_reduce<R>(f, r * run, r * run + run < count ? r * run + run : count);
+  });
+#endif
 }
 
 namespace detail {

@@ -3,6 +3,7 @@
 /// \brief What particle kernels need of the patch: where local node 0 is and the
 ///        cell size, plus loading and storing particle tensors.
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/math.hpp>
 #include <mpmice/kernels/mat3.hpp>
 #include <mpmice/kernels/particles.hpp>
@@ -37,16 +38,56 @@ inline NodeGrid node_grid(const Patch& p) {
   return g;
 }
 
+/// A node field (m, i, j, k) as one flat array over its whole span, for particle
+/// kernels: a particle finds its first node once (NodeStencil) and reaches the others by
+/// constant steps, instead of each field's view indexing every node again.
+using ConstNodeArray = Kokkos::View<const double*, MemSpace, Kokkos::MemoryUnmanaged>;
+
+inline ConstNodeArray node_array(const ConstField4& f) { return ConstNodeArray(f.data(), f.span()); }
+
+/// Where material m's node (first + (a, b, c)) is in the node_array of any field shaped
+/// like `like` (every node field of a patch is): at(first) + step(a, b, c). Any layout.
+template <int Nodes>
+struct NodeStencil {
+  long base = 0, stride[3] = {0, 0, 0};
+  long steps[Nodes * Nodes * Nodes] = {};  ///< step(a, b, c), a slowest
+
+  NodeStencil(const ConstField4& like, int m) {
+    base = long(m) * long(like.stride(0));
+    for (int d = 0; d < 3; ++d) stride[d] = long(like.stride(d + 1));
+    for (int a = 0; a < Nodes; ++a)
+      for (int b = 0; b < Nodes; ++b)
+        for (int c = 0; c < Nodes; ++c) steps[(a * Nodes + b) * Nodes + c] = a * stride[0] + b * stride[1] + c * stride[2];
+  }
+  KOKKOS_INLINE_FUNCTION long at(const int* first) const {
+    return base + first[0] * stride[0] + first[1] * stride[1] + first[2] * stride[2];
+  }
+  KOKKOS_INLINE_FUNCTION long step(int a, int b, int c) const { return steps[(a * Nodes + b) * Nodes + c]; }
+  /// The place of the middle node of a particle whose first node is at `first`: its
+  /// nearest node, which has weight for the linear and GIMP shapes.
+  KOKKOS_INLINE_FUNCTION long middle(long first) const {
+    constexpr int mid = (Nodes - 1) / 2;
+    return first + step(mid, mid, mid);
+  }
+  /// The place of node (a, b, c), or `middle` if its weight S is zero: such a node adds
+  /// nothing, and a particle loop without branches (loops.hpp) then reads no node
+  /// outside the particle's reach. Arithmetic, not a select: GCC turned the select into
+  /// masked loads, which it cannot vectorise here.
+  KOKKOS_INLINE_FUNCTION long place(long first, long middle, int a, int b, int c, double S) const {
+    return middle + long(S != 0.0) * (first + step(a, b, c) - middle);
+  }
+};
+
+/// Loads and stores of a particle's tensor are written out (`unrolled_for`), so that a
+/// particle loop around them vectorises (loops.hpp).
 KOKKOS_INLINE_FUNCTION Mat3 load_tensor(const ParticleData& data, long p, ParticleField first) {
   Mat3 m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m(i, j) = data(p, tensor_column(first, i, j));
+  unrolled_for<3>([&](int i) { unrolled_for<3>([&](int j) { m(i, j) = data(p, tensor_column(first, i, j)); }); });
   return m;
 }
 
 KOKKOS_INLINE_FUNCTION void store_tensor(const ParticleData& data, long p, ParticleField first, const Mat3& m) {
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) data(p, tensor_column(first, i, j)) = m(i, j);
+  unrolled_for<3>([&](int i) { unrolled_for<3>([&](int j) { data(p, tensor_column(first, i, j)) = m(i, j); }); });
 }
 
 /// Position and half-width (cell units) of particle p.
