@@ -15,35 +15,37 @@ namespace mpmice {
 template <class Shape>
 void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
                     const VectorField4& fint, const SumQuanta& q = SumQuanta()) {
-  const double quantum = q.internal_force, mass_quantum = q.mass;
-  const Kokkos::Array<NodeSlot, 3> slot = {material_slot(fint[0], m), material_slot(fint[1], m),
-                                            material_slot(fint[2], m)};
-  const NodeBlock block = node_block("mpmice::internal_force", slot[0], 3);
+  constexpr int n = Shape::nodes;
+  const Quantum quantum(q.internal_force), mass_quantum(q.mass);
+  const Kokkos::Array<Field4, 3> dest = {fint[0], fint[1], fint[2]};
+  const NodeBlock block = node_block("mpmice::internal_force", fint[0], 3);
+  const NodeStencil<n> rows = block_stencil<n>(fint[0]);
   const NodeScatter scatter(block);
-  Kokkos::parallel_for(
-      "mpmice::internal_force", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
-        double x[3], half[3];
-        particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-        Mat3 stress = load_tensor(data, p, ParticleField::s00);
-        const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
-        for (int d = 0; d < 3; ++d) stress(d, d) += iso;
-        const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
-        auto node = scatter.access();
-        for (int a = 0; a < Shape::nodes; ++a)
-          for (int b = 0; b < Shape::nodes; ++b)
-            for (int c = 0; c < Shape::nodes; ++c) {
-              double g[3];
-              wt.gradient(a, b, c, g);
-              if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) continue;
-              if (mass_quantum > 0 && on_grid(wt.weight(a, b, c) * mp, mass_quantum) == 0.0) continue;
-              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              node(i, j, k, 0) -= on_grid(vol * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]), quantum);
-              node(i, j, k, 1) -= on_grid(vol * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]), quantum);
-              node(i, j, k, 2) -= on_grid(vol * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]), quantum);
-            }
+  scatter_from_particles("mpmice::internal_force", count, KOKKOS_LAMBDA(long p) {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const long first = rows.at(wt.first);
+    Mat3 stress = load_tensor(data, p, ParticleField::s00);
+    const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
+    for (int d = 0; d < 3; ++d) stress(d, d) += iso;
+    const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
+    auto node = scatter.access();
+    unrolled_for<n>([&](int a) {
+      unrolled_for<n>([&](int b) {
+        unrolled_for<n>([&](int c) {
+          double g[3];
+          wt.gradient(a, b, c, g);
+          if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) return;
+          if (mass_quantum.q > 0 && mass_quantum.round(wt.weight(a, b, c) * mp) == 0.0) return;
+          const long row = first + rows.step(a, b, c);
+          for (int d = 0; d < 3; ++d)
+            node(row, d) -= quantum.round(vol * (stress(d, 0) * g[0] + stress(d, 1) * g[1] + stress(d, 2) * g[2]));
+        });
       });
-  unpack_block<3>(block, scatter, slot, {0, 0, 0});
+    });
+  });
+  unpack_block<3>(block, scatter, dest, m, {0, 0, 0});
 }
 
 /// A bound on any one contribution of `internal_force`: max_p V_p |sigma_p + (pp_p - q_p)

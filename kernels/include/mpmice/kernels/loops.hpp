@@ -26,10 +26,20 @@
 
 namespace mpmice {
 
-/// What `reduce_over_index` computes.
+/// What `reduce_over_index` and `reduce_over_particles` compute: the sum, or the largest
+/// value and 0.
 enum class Reduction { sum, max };
 
 namespace detail {
+/// Adds `value` into the partial result v as reduction R does.
+template <Reduction R>
+KOKKOS_FORCEINLINE_FUNCTION void combine(double& v, double value) {
+  if constexpr (R == Reduction::sum)
+    v += value;
+  else
+    v = value > v ? value : v;
+}
+
 /// One run of `for_each_index` or `for_each_particle`: f(fixed..., k) for k from lo to
 /// hi (a row (i, j) of cells, or a chunk of particles). Flattened (every call inside
 /// inlined), because a call left in the loop keeps it from vectorising.
@@ -37,6 +47,12 @@ template <class F, class... Fixed>
 MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
   MPMICE_PRAGMA_SIMD
   for (long k = lo; k < hi; ++k) f(fixed..., k);
+}
+
+/// One run of `scatter_from_particles`: like simd_run, without the `omp simd`.
+template <class F>
+MPMICE_FLATTEN void serial_run(const F& f, long lo, long hi) {
+  for (long p = lo; p < hi; ++p) f(p);
 }
 
 /// One run of `reduce_over_index` or `reduce_over_particles`. It works on its own copy
@@ -67,10 +83,7 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
 template <Reduction R, class Policy, class Run>
 double reduce_runs(const std::string& label, const Policy& runs, const Run& run) {
   double result = 0;
-  const auto add = KOKKOS_LAMBDA(long r, double& v) {
-    const double value = run(r);
-    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
-  };
+  const auto add = KOKKOS_LAMBDA(long r, double& v) { combine<R>(v, run(r)); };
   if constexpr (R == Reduction::sum)
     Kokkos::parallel_reduce(label, runs, add, result);
   else
@@ -116,10 +129,7 @@ template <Reduction R, class F>
 double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
   double result = 0;
-  const auto body = KOKKOS_LAMBDA(int i, int j, int k, double& v) {
-    const double value = f(i, j, k);
-    if constexpr (R == Reduction::sum) v += value; else v = value > v ? value : v;
-  };
+  const auto body = KOKKOS_LAMBDA(int i, int j, int k, double& v) { detail::combine<R>(v, f(i, j, k)); };
   if constexpr (R == Reduction::sum)
     Kokkos::parallel_reduce(label, box.policy(), body, result);
   else
@@ -149,6 +159,23 @@ void for_each_particle(const std::string& label, long count, const F& f) {
   constexpr long run = detail::particle_run;
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
     detail::simd_run(f, r * run, r * run + run < count ? r * run + run : count);
+  });
+#endif
+}
+
+/// Runs f(p) for particles p = 0 .. count - 1 whose bodies add into shared sums (a
+/// scatter through a ScatterView): like `for_each_particle`, but a run is not a vector
+/// loop, since two particles of one run may add into one node. Its body is still
+/// flattened, so a particle's nodes written out with `unrolled_for` become straight
+/// code (a body left as calls ran 3x slower).
+template <class F>
+void scatter_from_particles(const std::string& label, long count, const F& f) {
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
+#else
+  constexpr long run = detail::particle_run;
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
+    detail::serial_run(f, r * run, r * run + run < count ? r * run + run : count);
   });
 #endif
 }

@@ -10,6 +10,7 @@
 
 #include <Kokkos_ScatterView.hpp>
 
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/shape.hpp>
@@ -25,38 +26,38 @@ struct NodeSums {
   VectorField4 fext;///< sum S f_ext,p, N
 };
 
-/// One material's nodes of a node field (slot m of the (m, i, j, k) array), contiguous:
-/// a particle loop scatters into its own material's slot only.
-using NodeSlot = Kokkos::View<double***, Kokkos::LayoutRight, MemSpace>;
-
-inline NodeSlot material_slot(const Field4& f, int m) {
-  return Kokkos::subview(f, m, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL);
-}
-
-/// The sums of one particle loop, a node's F fields side by side: (i, j, k, f). A
-/// particle computes a node's index once for all its fields; the block is unpacked into
-/// the fields' slots after the loop.
-using NodeBlock = Kokkos::View<double****, Kokkos::LayoutRight, MemSpace>;
+/// The sums of one particle loop: a row per node of the patch, (i, j, k) at row
+/// (i n_j + j) n_k + k (`block_stencil`), with the node's F fields side by side. A
+/// particle finds a node's row once for all its fields; the block is unpacked into the
+/// fields after the loop.
+using NodeBlock = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>;
 
 /// The one scatter: a particle loop adds into a NodeBlock through it. On OpenMP each
 /// thread adds into its own copy, summed after the loop (docs/performance.md).
-using NodeScatter = Kokkos::Experimental::ScatterView<double****, Kokkos::LayoutRight, ExecSpace>;
+using NodeScatter = Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace>;
 
-/// A zeroed block of `fields` fields over the nodes of `like`.
-inline NodeBlock node_block(const char* label, const NodeSlot& like, int fields) {
-  return NodeBlock(std::string(label), like.extent(0), like.extent(1), like.extent(2), std::size_t(fields));
+/// A zeroed block of `fields` fields over the nodes of the node field `like`.
+inline NodeBlock node_block(const char* label, const ConstField4& like, int fields) {
+  return NodeBlock(std::string(label), like.extent(1) * like.extent(2) * like.extent(3), std::size_t(fields));
 }
 
-/// Add what the scatter gathered into `block`, then dest[f] = start[f] + block(., f).
+/// Where a particle's nodes are in a NodeBlock over the nodes of `like`.
+template <int Nodes>
+NodeStencil<Nodes> block_stencil(const ConstField4& like) {
+  return NodeStencil<Nodes>(0, long(like.extent(2) * like.extent(3)), long(like.extent(3)), 1);
+}
+
+/// Add what the scatter gathered into `block`, then dest[f](m, .) = start[f] + block(., f).
 template <int F>
-void unpack_block(NodeBlock block, const NodeScatter& scatter, const Kokkos::Array<NodeSlot, F>& dest,
+void unpack_block(NodeBlock block, const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
                   const Kokkos::Array<double, F>& start) {
   Kokkos::Experimental::contribute(block, scatter);
-  const IndexBox nodes{{0, 0, 0}, {int(block.extent(0)), int(block.extent(1)), int(block.extent(2))}};
-  Kokkos::parallel_for(
-      "mpmice::unpack_block", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        for (int f = 0; f < F; ++f) dest[f](i, j, k) = start[f] + block(i, j, k, f);
-      });
+  const IndexBox nodes{{0, 0, 0}, {int(dest[0].extent(1)), int(dest[0].extent(2)), int(dest[0].extent(3))}};
+  const long nj = nodes.hi[1], nk = nodes.hi[2];
+  for_each_index("mpmice::unpack_block", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+    const long row = (i * nj + j) * nk + k;
+    for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + block(row, f);
+  });
 }
 
 /// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
@@ -65,48 +66,47 @@ void unpack_block(NodeBlock block, const NodeScatter& scatter, const Kokkos::Arr
 template <class Shape>
 void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
          const SumQuanta& q = SumQuanta()) {
+  constexpr int n = Shape::nodes, F = 9;
   // Fields: mass, momentum (3), m T, volume, external force (3); mass and volume start
   // at 1e-200 so that no node divides by zero.
-  const Kokkos::Array<NodeSlot, 9> slot = {
-      material_slot(sums.mass, m),    material_slot(sums.mom[0], m),  material_slot(sums.mom[1], m),
-      material_slot(sums.mom[2], m),  material_slot(sums.heat, m),    material_slot(sums.volume, m),
-      material_slot(sums.fext[0], m), material_slot(sums.fext[1], m), material_slot(sums.fext[2], m)};
-  const NodeBlock block = node_block("mpmice::p2g", slot[0], 9);
+  const Kokkos::Array<Field4, F> dest = {sums.mass,    sums.mom[0], sums.mom[1], sums.mom[2], sums.heat,
+                                         sums.volume,  sums.fext[0], sums.fext[1], sums.fext[2]};
+  const Kokkos::Array<Quantum, F> quantum = {q.mass,   q.momentum, q.momentum,       q.momentum,       q.heat,
+                                            q.volume, q.external_force, q.external_force, q.external_force};
+  const NodeBlock block = node_block("mpmice::p2g", sums.mass, F);
+  const NodeStencil<n> rows = block_stencil<n>(sums.mass);
   const NodeScatter scatter(block);
-  Kokkos::parallel_for(
-      "mpmice::p2g", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
+  scatter_from_particles(
+      "mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
         double x[3], half[3];
         particle_position(data, p, x, half);
         const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+        const long first = rows.at(wt.first);
         const double mp = data(p, column(ParticleField::mass));
-        const double vp = data(p, column(ParticleField::volume));
-        const double px = mp * data(p, column(ParticleField::vx)), py = mp * data(p, column(ParticleField::vy)),
-                     pz = mp * data(p, column(ParticleField::vz));
-        const double mt = mp * data(p, column(ParticleField::temperature));
-        const double fx = data(p, column(ParticleField::fext_x)), fy = data(p, column(ParticleField::fext_y)),
-                     fz = data(p, column(ParticleField::fext_z));
+        const double value[F] = {mp,
+                                 mp * data(p, column(ParticleField::vx)),
+                                 mp * data(p, column(ParticleField::vy)),
+                                 mp * data(p, column(ParticleField::vz)),
+                                 mp * data(p, column(ParticleField::temperature)),
+                                 data(p, column(ParticleField::volume)),
+                                 data(p, column(ParticleField::fext_x)),
+                                 data(p, column(ParticleField::fext_y)),
+                                 data(p, column(ParticleField::fext_z))};
         auto node = scatter.access();
-        for (int a = 0; a < Shape::nodes; ++a)
-          for (int b = 0; b < Shape::nodes; ++b)
-            for (int c = 0; c < Shape::nodes; ++c) {
+        unrolled_for<n>([&](int a) {
+          unrolled_for<n>([&](int b) {
+            unrolled_for<n>([&](int c) {
               const double S = wt.weight(a, b, c);
               // A node whose share of the mass rounds to zero gets nothing at all, so
               // that no node has momentum or force without mass (internal_force skips it too).
-              const double ms = on_grid(S * mp, q.mass);
-              if (ms == 0.0) continue;
-              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + c;
-              node(i, j, k, 0) += ms;
-              node(i, j, k, 1) += on_grid(S * px, q.momentum);
-              node(i, j, k, 2) += on_grid(S * py, q.momentum);
-              node(i, j, k, 3) += on_grid(S * pz, q.momentum);
-              node(i, j, k, 4) += on_grid(S * mt, q.heat);
-              node(i, j, k, 5) += on_grid(S * vp, q.volume);
-              node(i, j, k, 6) += on_grid(S * fx, q.external_force);
-              node(i, j, k, 7) += on_grid(S * fy, q.external_force);
-              node(i, j, k, 8) += on_grid(S * fz, q.external_force);
-            }
+              if (quantum[0].round(S * mp) == 0.0) return;
+              const long row = first + rows.step(a, b, c);
+              for (int f = 0; f < F; ++f) node(row, f) += quantum[f].round(S * value[f]);
+            });
+          });
+        });
       });
-  unpack_block<9>(block, scatter, slot, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
+  unpack_block<F>(block, scatter, dest, m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
 }
 
 /// Node velocity v = sum S m v / m and temperature T = sum S m T / m (E12) on `nodes`.

@@ -52,9 +52,10 @@ struct NodeStencil {
   long base = 0, stride[3] = {0, 0, 0};
   long steps[Nodes * Nodes * Nodes] = {};  ///< step(a, b, c), a slowest
 
-  NodeStencil(const ConstField4& like, int m) {
-    base = long(m) * long(like.stride(0));
-    for (int d = 0; d < 3; ++d) stride[d] = long(like.stride(d + 1));
+  NodeStencil(const ConstField4& like, int m)
+      : NodeStencil(long(m) * long(like.stride(0)), long(like.stride(1)), long(like.stride(2)), long(like.stride(3))) {}
+  /// Node (i, j, k) at base + i stride_i + j stride_j + k stride_k.
+  NodeStencil(long base_, long stride_i, long stride_j, long stride_k) : base(base_), stride{stride_i, stride_j, stride_k} {
     for (int a = 0; a < Nodes; ++a)
       for (int b = 0; b < Nodes; ++b)
         for (int c = 0; c < Nodes; ++c) steps[(a * Nodes + b) * Nodes + c] = a * stride[0] + b * stride[1] + c * stride[2];
