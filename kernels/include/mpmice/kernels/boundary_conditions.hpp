@@ -5,6 +5,7 @@
 ///        boundary) of a cell field, and set normal velocities on boundary faces.
 ///        Periodic directions are not boundaries: the halo fills their ghosts.
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
 
 namespace mpmice {
 
@@ -48,33 +49,30 @@ inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::Me
       const double h = patch.grid.spacing[d];
       const double value = bc.value[component < 0 ? 0 : component];
       const double mirror_sign = (bc.kind == BcKind::symmetry && component == d) ? -1.0 : 1.0;
-      // A flat loop over the slab: its extent across the boundary is only G, too thin
-      // for the MDRange's tiles (whose innermost extent would be G for d = 2).
-      const int lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], n1 = box.extent(1), n2 = box.extent(2);
-      Kokkos::parallel_for(
-          "mpmice::fill_extra_cells", Kokkos::RangePolicy<ExecSpace>(0, box.size()), KOKKOS_LAMBDA(long c) {
-            const int k = lo2 + int(c % n2), j = lo1 + int((c / n2) % n1), i = lo0 + int(c / (long(n1) * n2));
-            int idx[3] = {i, j, k};
-            const int at = idx[d];
-            // Layer l = 1, 2, ... away from the boundary; its mirror is interior layer l.
-            const int l = side == 0 ? G - at : at - (G + n) + 1;
-            int adjacent[3] = {i, j, k}, mirror[3] = {i, j, k};
-            adjacent[d] = side == 0 ? G : G + n - 1;
-            int mm = side == 0 ? G - 1 + l : G + n - l;
-            if (mm < G) mm = G;
-            if (mm > G + n - 1) mm = G + n - 1;
-            mirror[d] = mm;
-            for (int m = m_begin; m < m_end; ++m) {
-              double out;
-              if (bc.kind == BcKind::dirichlet)
-                out = value;
-              else if (bc.kind == BcKind::symmetry)
-                out = mirror_sign * q(m, mirror[0], mirror[1], mirror[2]);
-              else
-                out = q(m, adjacent[0], adjacent[1], adjacent[2]) + value * h * l;
-              q(m, i, j, k) = out;
-            }
-          });
+      // Rows (i, j) of the slab, k innermost (for_each_index): no index division per
+      // cell, which the flat loop over the slab spent most of its time on.
+      for_each_index("mpmice::fill_extra_cells", box, KOKKOS_LAMBDA(long i, long j, long k) {
+        const long idx[3] = {i, j, k};
+        const long at = idx[d];
+        // Layer l = 1, 2, ... away from the boundary; its mirror is interior layer l.
+        const long l = side == 0 ? G - at : at - (G + n) + 1;
+        long adjacent[3] = {i, j, k}, mirror[3] = {i, j, k};
+        adjacent[d] = side == 0 ? G : G + n - 1;
+        long mm = side == 0 ? G - 1 + l : G + n - l;
+        if (mm < G) mm = G;
+        if (mm > G + n - 1) mm = G + n - 1;
+        mirror[d] = mm;
+        for (int m = m_begin; m < m_end; ++m) {
+          double out;
+          if (bc.kind == BcKind::dirichlet)
+            out = value;
+          else if (bc.kind == BcKind::symmetry)
+            out = mirror_sign * q(m, mirror[0], mirror[1], mirror[2]);
+          else
+            out = q(m, adjacent[0], adjacent[1], adjacent[2]) + value * h * l;
+          q(m, i, j, k) = out;
+        }
+      });
     }
 }
 
