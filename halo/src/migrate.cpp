@@ -138,6 +138,9 @@ MigrationStats migrate(const Decomposition& dec, ParticleSet& particles) {
   }
   total_recv = recv_offset[nn];
   stats.received = total_recv;
+  // Nothing left this patch and nothing arrived (most steps): the particles stay as
+  // they are, in their order, without the copy below.
+  if (stats.sent == 0 && stats.left_domain == 0 && total_recv == 0) return stats;
 
   // Rows to send, packed per neighbour as (row, component) with components contiguous
   // per particle, so one message per neighbour carries whole particles.

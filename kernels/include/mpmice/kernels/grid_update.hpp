@@ -3,8 +3,29 @@
 /// \brief Step 14: node acceleration and the updated node velocity (E26), and the
 ///        node velocity boundary conditions of Step 20 (symmetry, fixed, prescribed).
 #include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
+
+namespace detail {
+template <bool Rigid>
+void grid_acceleration_n(const IndexBox& nodes, int m, double dt, Kokkos::Array<double, 3> gravity,
+                         double damping, const ConstField4& mass, const ConstVectorField4& vel,
+                         const ConstVectorField4& fint, const ConstVectorField4& fext, const VectorField4& vel_star,
+                         const VectorField4& acc) {
+  for_each_index("mpmice::grid_acceleration", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+    const double inv = 1.0 / mass(m, i, j, k);
+    for (int d = 0; d < 3; ++d) {
+      double a = 0.0;
+      if constexpr (!Rigid)
+        a = (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d] - damping * vel[d](m, i, j, k);
+      acc[d](m, i, j, k) = a;
+      vel_star[d](m, i, j, k) = vel[d](m, i, j, k) + dt * a;
+    }
+  });
+}
+}  // namespace detail
 
 /// a = (f_int + f_ext)/m + g - alpha v, v* = v + dt a on `nodes` (E26). A rigid
 /// material (`rigid`) keeps v* = v, a = 0. `damping` alpha (1/s, usually 0) is an
@@ -14,17 +35,10 @@ inline void grid_acceleration(const IndexBox& nodes, int m, double dt, Kokkos::A
                               double damping, bool rigid, const ConstField4& mass, const ConstVectorField4& vel,
                               const ConstVectorField4& fint, const ConstVectorField4& fext,
                               const VectorField4& vel_star, const VectorField4& acc) {
-  Kokkos::parallel_for(
-      "mpmice::grid_acceleration", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double inv = 1.0 / mass(m, i, j, k);
-        for (int d = 0; d < 3; ++d) {
-          const double a = rigid ? 0.0
-                                 : (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d] -
-                                       damping * vel[d](m, i, j, k);
-          acc[d](m, i, j, k) = a;
-          vel_star[d](m, i, j, k) = vel[d](m, i, j, k) + dt * a;
-        }
-      });
+  with_flag(rigid, [&](auto is_rigid) {
+    detail::grid_acceleration_n<decltype(is_rigid)::value>(nodes, m, dt, gravity, damping, mass, vel, fint, fext,
+                                                           vel_star, acc);
+  });
 }
 
 /// Zero normal velocity on the node layers at and beyond each symmetry face (the

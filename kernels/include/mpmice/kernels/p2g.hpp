@@ -113,12 +113,11 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
 inline void node_velocity_temperature(const IndexBox& nodes, int m, const ConstField4& mass,
                                       const ConstVectorField4& mom, const ConstField4& heat,
                                       const VectorField4& vel, const Field4& temp) {
-  Kokkos::parallel_for(
-      "mpmice::node_velocity_temperature", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double inv = 1.0 / mass(m, i, j, k);
-        for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = mom[d](m, i, j, k) * inv;
-        temp(m, i, j, k) = heat(m, i, j, k) * inv;
-      });
+  for_each_index("mpmice::node_velocity_temperature", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+    const double inv = 1.0 / mass(m, i, j, k);
+    for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = mom[d](m, i, j, k) * inv;
+    temp(m, i, j, k) = heat(m, i, j, k) * inv;
+  });
 }
 
 }  // namespace mpmice
