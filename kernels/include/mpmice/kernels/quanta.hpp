@@ -39,12 +39,8 @@ struct Quantum {
   double q = 0, inverse = 0;
   Quantum() = default;
   Quantum(double quantum) : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0) {}
-  /// on_grid(x, q), bit for bit. Both sides are computed (a select, not a branch), so
-  /// that a node's fields round as one short vector.
-  KOKKOS_INLINE_FUNCTION double round(double x) const {
-    const double rounded = math::floor(x * inverse + 0.5) * q;
-    return q > 0 ? rounded : x;
-  }
+  /// on_grid(x, q), bit for bit.
+  KOKKOS_INLINE_FUNCTION double round(double x) const { return q > 0 ? math::floor(x * inverse + 0.5) * q : x; }
 };
 
 /// The power of two 2^(e - 40) with 2^e <= bound < 2^(e+1): contributions up to `bound`
