@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -17,6 +18,21 @@
 using namespace mpmice;
 
 namespace {
+
+// A patch with 2 ghost layers over a whole grid of `cells` cells of size `spacing`.
+Patch whole_patch(std::array<int, 3> cells, std::array<double, 3> spacing) {
+  Grid g;
+  g.cells = cells;
+  g.spacing = spacing;
+  return whole_grid_patch(g, 2);
+}
+
+// Node sums of one material over the patch's nodes.
+NodeSums node_sums(const Patch& patch) {
+  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
+  return NodeSums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"),
+                  {node("fx"), node("fy"), node("fz")}};
+}
 
 template <class Shape>
 void check_partition_and_linear(double half_width) {
@@ -66,10 +82,8 @@ TEST(Shape, GimpPartitionOfUnityAndLinearReproduction) {
 // sums do not depend on the thread count beyond round-off.
 template <class Shape>
 void transfer_test() {
-  Grid g;
-  g.cells = {8, 6, 5};
-  g.spacing = {0.1, 0.1, 0.1};
-  const Patch patch = whole_grid_patch(g, 2);
+  const Patch patch = whole_patch({8, 6, 5}, {0.1, 0.1, 0.1});
+  const Grid& g = patch.grid;
   const NodeGrid grid = node_grid(patch);
   const long n = 5000;
   ParticleSet ps("solid", n);
@@ -92,7 +106,7 @@ void transfer_test() {
   }
   Kokkos::deep_copy(ps.data(), h);
   auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
-  NodeSums sums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"), {node("fx"), node("fy"), node("fz")}};
+  const NodeSums sums = node_sums(patch);
   p2g<Shape>(grid, n, ps.data(), 0, sums);
   auto total = [&](const Field4& f) {
     double s = 0;
@@ -176,14 +190,12 @@ TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
 // differed in the last bit.
 template <class Shape>
 void weights_agree_test() {
-  Grid g;
-  g.cells = {16, 16, 16};
-  g.spacing = {0.1, 0.2, 0.05};
-  const Patch patch = whole_grid_patch(g, 2);
+  const Patch patch = whole_patch({16, 16, 16}, {0.1, 0.2, 0.05});
+  const Grid& g = patch.grid;
   const NodeGrid grid = node_grid(patch);
   const long n = 4 * 4 * 4;
   auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
-  NodeSums sums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"), {node("fx"), node("fy"), node("fz")}};
+  const NodeSums sums = node_sums(patch);
   const Field4 zero = node("zero"), one = node("one");
   Kokkos::deep_copy(one, 1.0);
   std::mt19937_64 rng(17);

@@ -95,6 +95,20 @@ double reduce_runs(const std::string& label, const Policy& runs, const Run& run)
 /// Particles per run of `for_each_particle` on the host: long enough for the vector
 /// loop, short enough that the threads share the work evenly.
 constexpr long particle_run = 256;
+
+/// How many runs cover `count` particles, and where run r ends.
+inline long particle_runs(long count) { return (count + particle_run - 1) / particle_run; }
+KOKKOS_INLINE_FUNCTION long particle_run_end(long r, long count) {
+  const long end = (r + 1) * particle_run;
+  return end < count ? end : count;
+}
+
+/// Calls run(lo, hi) for every run of particles, in parallel (host).
+template <class Run>
+void over_particle_runs(const std::string& label, long count, const Run& run) {
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, particle_runs(count)),
+                       [=](long r) { run(r * particle_run, particle_run_end(r, count)); });
+}
 }  // namespace detail
 
 /// Runs f(i, j, k) for every index of `box`, in parallel; the indices are `long`.
@@ -156,10 +170,7 @@ void for_each_particle(const std::string& label, long count, const F& f) {
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
-  constexpr long run = detail::particle_run;
-  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
-    detail::simd_run(f, r * run, r * run + run < count ? r * run + run : count);
-  });
+  detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::simd_run(f, lo, hi); });
 #endif
 }
 
@@ -173,10 +184,7 @@ void scatter_from_particles(const std::string& label, long count, const F& f) {
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
-  constexpr long run = detail::particle_run;
-  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
-    detail::serial_run(f, r * run, r * run + run < count ? r * run + run : count);
-  });
+  detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::serial_run(f, lo, hi); });
 #endif
 }
 
@@ -187,9 +195,8 @@ double reduce_over_particles(const std::string& label, long count, const F& f) {
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
-  constexpr long run = detail::particle_run;
-  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, (count + run - 1) / run), [=](long r) {
-    return detail::simd_run_reduce<R>(f, r * run, r * run + run < count ? r * run + run : count);
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
+    return detail::simd_run_reduce<R>(f, r * detail::particle_run, detail::particle_run_end(r, count));
   });
 #endif
 }
