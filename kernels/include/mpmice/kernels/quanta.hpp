@@ -25,23 +25,21 @@ struct SumQuanta {
   double energy = 0;          ///< J: burned m (c_v T + dh)
 };
 
-/// x rounded to the nearest multiple of q (x itself if q = 0). q is a power of two
-/// (quantum_for), so 1/q is exact, x (1/q) equals x/q bit for bit, and the product
-/// back is exact; the reciprocal is the same for every particle of a loop, where the
-/// compiler hoists it out (no division per contribution).
-KOKKOS_INLINE_FUNCTION double on_grid(double x, double q) {
-  return q > 0 ? math::floor(x * (1.0 / q) + 0.5) * q : x;
-}
-
-/// A quantum with its reciprocal, for a loop that rounds contributions to several
-/// quanta kept in an array (there the compiler does not hoist on_grid's division).
+/// A power-of-two quantum q (quantum_for, 0 for none) with its reciprocal, which is
+/// exact: x (1/q) equals x/q bit for bit and the product back is exact.
 struct Quantum {
   double q = 0, inverse = 0;
   Quantum() = default;
-  Quantum(double quantum) : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0) {}
-  /// on_grid(x, q), bit for bit.
+  KOKKOS_INLINE_FUNCTION Quantum(double quantum) : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0) {}
+  /// x rounded to the nearest multiple of q (x itself if q = 0).
   KOKKOS_INLINE_FUNCTION double round(double x) const { return q > 0 ? math::floor(x * inverse + 0.5) * q : x; }
 };
+
+/// x rounded to the nearest multiple of q (x itself if q = 0). The reciprocal is the
+/// same for every particle of a loop, where the compiler hoists it out (no division per
+/// contribution); a loop over several quanta kept in an array takes `Quantum`s, whose
+/// division is done once where they are made.
+KOKKOS_INLINE_FUNCTION double on_grid(double x, double q) { return Quantum(q).round(x); }
 
 /// The power of two 2^(e - 40) with 2^e <= bound < 2^(e+1): contributions up to `bound`
 /// become integers below 2^41 times it; 0 for a bound that is not positive.
