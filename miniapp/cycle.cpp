@@ -4,8 +4,11 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include <mpmice/halo/migrate.hpp>
 #include <mpmice/halo/reduce.hpp>
+#include <mpmice/kernels/bad_particles.hpp>
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/cell_to_node.hpp>
 #include <mpmice/kernels/mpm_lagrangian_values.hpp>
@@ -84,6 +87,37 @@ void stop_if_any(MPI_Comm comm, bool local_bad, const std::string& message) {
 std::string cell_name(const Patch& p, const int* c) {
   return "(" + std::to_string(p.global_index(c[0], 0)) + ", " + std::to_string(p.global_index(c[1], 1)) +
          ", " + std::to_string(p.global_index(c[2], 2)) + ")";
+}
+
+// "particle 17 of material 'pbx' (at x, y, z m)": the row's id and, when finite, where it is.
+std::string particle_name(const ParticleSet& ps, long row, const std::string& material) {
+  const auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(ps.id(), row));
+  const auto x = Kokkos::create_mirror_view_and_copy(
+      Kokkos::HostSpace(), Kokkos::subview(ps.data(), row, std::make_pair(column(ParticleField::x), column(ParticleField::x) + 3)));
+  std::string name = "particle " + std::to_string(id()) + " of material '" + material + "'";
+  if (std::isfinite(x(0)) && std::isfinite(x(1)) && std::isfinite(x(2)))
+    name += fmt::format(" (at {:.6g}, {:.6g}, {:.6g} m)", x(0), x(1), x(2));
+  return name;
+}
+
+// Stops the run when a particle's state is broken (bad_particles.hpp), naming it.
+void stop_if_bad_particles(MPI_Comm comm, const Problem& pb, const char* step) {
+  BadParticle bad;
+  int material = 0;
+  for (int s = 0; s < pb.solid_count() && bad.count == 0; ++s) {
+    bad = find_bad_particles(long(pb.particles[s].size()), pb.particles[s].data());
+    material = s;
+  }
+  std::string message;
+  if (bad.count > 0) {
+    const ParticleQuantity q = bad.quantity;
+    const bool sign = q == ParticleQuantity::mass || q == ParticleQuantity::volume;
+    message = std::string(step) + ": the " + quantity_name(q) + " of " +
+              particle_name(pb.particles[material], bad.row, pb.input.materials[pb.mpm[material]].name) + " is " +
+              (q == ParticleQuantity::temperature ? "not positive or " : sign ? "negative or " : "") +
+              "not finite (" + std::to_string(bad.count) + " particles of that material on this rank)";
+  }
+  stop_if_any(comm, bad.count > 0, message);
 }
 
 }  // namespace
@@ -740,6 +774,7 @@ void Cycle::add_particle_update_steps() {
                              limit = std::min(limit, stress_update(grid, long(m_pb.particles[s].size()),
                                                                    m_pb.particles[s].data(), m_pb.solids[s], dt));
                            m_mpm_dt_limit = limit;
+                           stop_if_bad_particles(m_pb.decomposition->comm(), m_pb, "stress_update");
                          }});
   m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns](const StepContext&) {
                            long lost = 0;

@@ -1,6 +1,6 @@
 // MPM kernels: shape functions (partition of unity, linear reproduction), the
-// particle-grid transfers' conservation, and the constitutive models against closed
-// forms under homogeneous deformation.
+// particle-grid transfers' conservation, the particle-state check, and the
+// constitutive models against closed forms under homogeneous deformation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include <mpmice/kernels/bad_particles.hpp>
 #include <mpmice/kernels/g2p.hpp>
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/p2g.hpp>
@@ -280,6 +281,49 @@ TEST(Transfer, SortKeepsEveryParticle) {
     last_key = key;
   }
   EXPECT_EQ(idsum, 299L * 300 / 2);
+}
+
+// The particle-state check names the row and the first quantity broken, counts every
+// broken particle, and passes a sound state (zero mass and volume allowed: a particle
+// that burned out).
+TEST(ParticleState, BadParticlesAreFoundAndNamed) {
+  const long n = 50;
+  ParticleSet ps("s", n);
+  ps.resize(n);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  for (long p = 0; p < n; ++p)
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 1.0;
+  h(7, column(ParticleField::mass)) = 0.0;
+  h(7, column(ParticleField::volume)) = 0.0;
+  auto check = [&]() {
+    Kokkos::deep_copy(ps.data(), h);
+    return find_bad_particles(n, ps.data());
+  };
+  EXPECT_EQ(check().count, 0);
+  const double nan = std::nan("");
+  struct Case { long row; ParticleField field; double value; ParticleQuantity want; };
+  const Case cases[] = {{3, ParticleField::y, nan, ParticleQuantity::position},
+                        {12, ParticleField::vz, HUGE_VAL, ParticleQuantity::velocity},
+                        {20, ParticleField::mass, -1e-30, ParticleQuantity::mass},
+                        {21, ParticleField::volume, nan, ParticleQuantity::volume},
+                        {30, ParticleField::temperature, 0.0, ParticleQuantity::temperature},
+                        {40, ParticleField::F21, nan, ParticleQuantity::deformation},
+                        {49, ParticleField::s02, -HUGE_VAL, ParticleQuantity::stress}};
+  for (const Case& c : cases) {
+    const double kept = h(c.row, column(c.field));
+    h(c.row, column(c.field)) = c.value;
+    const BadParticle b = check();
+    EXPECT_EQ(b.count, 1) << quantity_name(c.want);
+    EXPECT_EQ(b.row, c.row);
+    EXPECT_EQ(b.quantity, c.want);
+    h(c.row, column(c.field)) = kept;
+  }
+  h(5, column(ParticleField::x)) = nan;  // two broken: the count says so, the last row is named
+  h(9, column(ParticleField::mass)) = -1.0;
+  const BadParticle b = check();
+  EXPECT_EQ(b.count, 2);
+  EXPECT_EQ(b.row, 9);
+  EXPECT_EQ(b.quantity, ParticleQuantity::mass);
 }
 
 // Closed forms of (E53) under uniaxial stretch F = diag(l, 1, 1) and simple shear
