@@ -24,10 +24,10 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
         double strain = 0;
         if (model.type != SolidModelType::rigid) {
           const Mat3 F = load_tensor(data, p, ParticleField::F00);
-          const double J = F.det();
+          const double J = F.det(), j13 = math::inverse_cube_root(J);
           const Mat3 bbar = model.type == SolidModelType::neo_hookean_plastic
                                 ? load_tensor(data, p, ParticleField::be00)
-                                : math::pow(J, -2.0 / 3.0) * (F * F.transpose());
+                                : (j13 * j13) * (F * F.transpose());
           // Energy per reference volume times the reference volume m / rho_0.
           const bool failed = data(p, column(ParticleField::plastic_strain)) >= model.failure_strain;
           strain = (failed ? failed_energy(J, model.bulk_modulus)

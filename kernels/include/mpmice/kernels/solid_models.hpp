@@ -56,7 +56,8 @@ KOKKOS_INLINE_FUNCTION double neo_hookean_mean_stress(double J, double K) { retu
 /// sigma = (K/2)(J - 1/J) I + (G/J) dev(J^{-2/3} F F^T) (E53).
 KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_stress(const Mat3& F, double K, double G) {
   const double J = F.det();
-  const Mat3 bbar = math::pow(J, -2.0 / 3.0) * (F * F.transpose());
+  const double j13 = math::inverse_cube_root(J);
+  const Mat3 bbar = (j13 * j13) * (F * F.transpose());
   Mat3 sigma = (G / J) * bbar.deviator();
   const double p = neo_hookean_mean_stress(J, K);
   for (int i = 0; i < 3; ++i) sigma(i, i) += p;
@@ -68,7 +69,7 @@ KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_stress(const Mat3& F, double K, double G
 /// taken at det 1: (E54)'s return map keeps the trial's trace, so bbar_e drifts off
 /// det 1 while yielding, and its raw trace would count the plastic work as stored.
 KOKKOS_INLINE_FUNCTION double neo_hookean_energy(double J, const Mat3& bbar, double K, double G) {
-  const double tr = bbar.trace() * math::pow(bbar.det(), -1.0 / 3.0);
+  const double tr = bbar.trace() * math::inverse_cube_root(bbar.det());
   return 0.5 * K * (0.5 * (J * J - 1.0) - math::log(J)) + 0.5 * G * (tr - 3.0);
 }
 
@@ -117,7 +118,7 @@ KOKKOS_INLINE_FUNCTION Mat3 failed_stress(double p) {
 KOKKOS_INLINE_FUNCTION Mat3 neo_hookean_plastic_stress(const Mat3& f, double J, Mat3& bbar_e,
                                                        double& eps_p, const SolidModel& model) {
   const double G = model.shear_modulus;
-  const Mat3 fbar = math::pow(f.det(), -1.0 / 3.0) * f;
+  const Mat3 fbar = math::inverse_cube_root(f.det()) * f;
   const Mat3 b_trial = fbar * bbar_e * fbar.transpose();
   const double tr3 = b_trial.trace() / 3.0;
   const double mubar = G * tr3;

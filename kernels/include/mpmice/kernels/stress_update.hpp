@@ -6,6 +6,27 @@
 
 namespace mpmice {
 
+namespace detail {
+// The elastic neo-Hookean update (E53) as a vector loop over particles (loops.hpp):
+// writes the stress, returns the largest (c_dil + |v_d|) / h_d, the inverse of (E58)'s limit.
+inline double neo_hookean_update(const NodeGrid& grid, long count, const ParticleData& data,
+                                 const SolidModel& model) {
+  const SolidModel mat = model;
+  const Kokkos::Array<double, 3> h = {grid.h[0], grid.h[1], grid.h[2]};
+  return reduce_over_particles<Reduction::max>("mpmice::stress_update", count, KOKKOS_LAMBDA(long p) {
+    const Mat3 F = load_tensor(data, p, ParticleField::F00);
+    store_tensor(data, p, ParticleField::s00, neo_hookean_stress(F, mat.bulk_modulus, mat.shear_modulus));
+    const double c = mat.wave_speed(mat.density / F.det());
+    double rate = 0;
+    unrolled_for<3>([&](int d) {
+      const double r = (c + math::abs(data(p, column(ParticleField::vx) + d))) / h[d];
+      rate = r > rate ? r : rate;
+    });
+    return rate;
+  });
+}
+}  // namespace detail
+
 /// Updates stress (and bbar_e, plastic strain, and the temperature by the plastic
 /// work, `plastic_heat`) of the `count` particles of one material; returns min over
 /// particles and directions of h_d / (c_dil + |v_d|), the dilatational wave speed at
@@ -14,6 +35,10 @@ namespace mpmice {
 inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
                             const SolidModel& model, double dt) {
   if (model.type == SolidModelType::rigid) return 1e300;
+  if (model.type == SolidModelType::neo_hookean) {
+    const double rate = detail::neo_hookean_update(grid, count, data, model);
+    return rate > 0 ? 1.0 / rate : 1e300;
+  }
   double dt_limit = 1e300;
   Kokkos::parallel_reduce(
       "mpmice::stress_update", Kokkos::RangePolicy<ExecSpace>(0, count),
