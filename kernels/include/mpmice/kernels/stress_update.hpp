@@ -31,7 +31,8 @@ inline double neo_hookean_update(const NodeGrid& grid, long count, const Particl
 /// work, `plastic_heat`) of the `count` particles of one material; returns min over
 /// particles and directions of h_d / (c_dil + |v_d|), the dilatational wave speed at
 /// the current density rho_0 / J (E58); a rigid material does not limit the step
-/// (returns a huge value).
+/// (returns a huge value). The elastic model runs as a vector loop
+/// (detail::neo_hookean_update), the plastic one as a plain reduction.
 inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
                             const SolidModel& model, double dt) {
   if (model.type == SolidModelType::rigid) return 1e300;
@@ -43,23 +44,18 @@ inline double stress_update(const NodeGrid& grid, long count, const ParticleData
   Kokkos::parallel_reduce(
       "mpmice::stress_update", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(long p, double& lim) {
-        const Mat3 F = load_tensor(data, p, ParticleField::F00);
-        const double J = F.det();
-        Mat3 sigma;
-        if (model.type == SolidModelType::neo_hookean_plastic) {
-          const Mat3 f = deformation_increment(load_tensor(data, p, ParticleField::L00), dt);
-          Mat3 be = load_tensor(data, p, ParticleField::be00);
-          double& eps = data(p, column(ParticleField::plastic_strain));
-          const double eps_old = eps;
-          sigma = neo_hookean_plastic_stress(f, J, be, eps, model);
-          store_tensor(data, p, ParticleField::be00, be);
-          // Plastic work and the energy released by failure heat the particle:
-          // dT = heat / (rho_0 c_v), heat per reference volume.
-          data(p, column(ParticleField::temperature)) +=
-              plastic_heat(eps_old, eps, J, be, model) / (model.density * model.cv);
-        } else {
-          sigma = neo_hookean_stress(F, model.bulk_modulus, model.shear_modulus);
-        }
+        // J2 plasticity (E54): scalar, its return map branches and its increment sub-steps.
+        const double J = load_tensor(data, p, ParticleField::F00).det();
+        const Mat3 f = deformation_increment(load_tensor(data, p, ParticleField::L00), dt);
+        Mat3 be = load_tensor(data, p, ParticleField::be00);
+        double& eps = data(p, column(ParticleField::plastic_strain));
+        const double eps_old = eps;
+        const Mat3 sigma = neo_hookean_plastic_stress(f, J, be, eps, model);
+        store_tensor(data, p, ParticleField::be00, be);
+        // Plastic work and the energy released by failure heat the particle:
+        // dT = heat / (rho_0 c_v), heat per reference volume.
+        data(p, column(ParticleField::temperature)) +=
+            plastic_heat(eps_old, eps, J, be, model) / (model.density * model.cv);
         store_tensor(data, p, ParticleField::s00, sigma);
         const double c = model.wave_speed(model.density / J);
         for (int d = 0; d < 3; ++d) {
