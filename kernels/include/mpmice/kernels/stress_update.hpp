@@ -7,44 +7,40 @@
 namespace mpmice {
 
 namespace detail {
+// Particle p's max_d (c_dil + |v_d|) / h_d, the inverse of its (E58) limit, with the
+// wave speed at the current density rho_0 / J.
+KOKKOS_INLINE_FUNCTION double step_rate(const SolidModel& model, double J, const ParticleData& data, long p,
+                                        const Kokkos::Array<double, 3>& h) {
+  const double c = model.wave_speed(model.density / J);
+  double rate = 0;
+  unrolled_for<3>([&](int d) {
+    const double r = (c + math::abs(data(p, column(ParticleField::vx) + d))) / h[d];
+    rate = r > rate ? r : rate;
+  });
+  return rate;
+}
+
 // The elastic neo-Hookean update (E53) as a vector loop over particles (loops.hpp):
-// writes the stress, returns the largest (c_dil + |v_d|) / h_d, the inverse of (E58)'s limit.
-inline double neo_hookean_update(const NodeGrid& grid, long count, const ParticleData& data,
-                                 const SolidModel& model) {
+// writes the stress, returns the largest step_rate.
+inline double neo_hookean_update(long count, const ParticleData& data, const SolidModel& model,
+                                 const Kokkos::Array<double, 3>& h) {
   const SolidModel mat = model;
-  const Kokkos::Array<double, 3> h = {grid.h[0], grid.h[1], grid.h[2]};
   return reduce_over_particles<Reduction::max>("mpmice::stress_update", count, KOKKOS_LAMBDA(long p) {
     const Mat3 F = load_tensor(data, p, ParticleField::F00);
     store_tensor(data, p, ParticleField::s00, neo_hookean_stress(F, mat.bulk_modulus, mat.shear_modulus));
-    const double c = mat.wave_speed(mat.density / F.det());
-    double rate = 0;
-    unrolled_for<3>([&](int d) {
-      const double r = (c + math::abs(data(p, column(ParticleField::vx) + d))) / h[d];
-      rate = r > rate ? r : rate;
-    });
-    return rate;
+    return step_rate(mat, F.det(), data, p, h);
   });
 }
-}  // namespace detail
 
-/// Updates stress (and bbar_e, plastic strain, and the temperature by the plastic
-/// work, `plastic_heat`) of the `count` particles of one material; returns min over
-/// particles and directions of h_d / (c_dil + |v_d|), the dilatational wave speed at
-/// the current density rho_0 / J (E58); a rigid material does not limit the step
-/// (returns a huge value). The elastic model runs as a vector loop
-/// (detail::neo_hookean_update), the plastic one as a plain reduction.
-inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
-                            const SolidModel& model, double dt) {
-  if (model.type == SolidModelType::rigid) return 1e300;
-  if (model.type == SolidModelType::neo_hookean) {
-    const double rate = detail::neo_hookean_update(grid, count, data, model);
-    return rate > 0 ? 1.0 / rate : 1e300;
-  }
-  double dt_limit = 1e300;
+// J2 plasticity (E54) as a plain reduction (its return map branches and its increment
+// sub-steps): writes stress, bbar_e, plastic strain and the plastic heat, returns the
+// largest step_rate.
+inline double neo_hookean_plastic_update(long count, const ParticleData& data, const SolidModel& model,
+                                         const Kokkos::Array<double, 3>& h, double dt) {
+  double rate = 0;
   Kokkos::parallel_reduce(
       "mpmice::stress_update", Kokkos::RangePolicy<ExecSpace>(0, count),
-      KOKKOS_LAMBDA(long p, double& lim) {
-        // J2 plasticity (E54): scalar, its return map branches and its increment sub-steps.
+      KOKKOS_LAMBDA(long p, double& largest) {
         const double J = load_tensor(data, p, ParticleField::F00).det();
         const Mat3 f = deformation_increment(load_tensor(data, p, ParticleField::L00), dt);
         Mat3 be = load_tensor(data, p, ParticleField::be00);
@@ -57,15 +53,28 @@ inline double stress_update(const NodeGrid& grid, long count, const ParticleData
         data(p, column(ParticleField::temperature)) +=
             plastic_heat(eps_old, eps, J, be, model) / (model.density * model.cv);
         store_tensor(data, p, ParticleField::s00, sigma);
-        const double c = model.wave_speed(model.density / J);
-        for (int d = 0; d < 3; ++d) {
-          const double v = math::abs(data(p, column(ParticleField::vx) + d));
-          const double t = grid.h[d] / (c + v);
-          if (t < lim) lim = t;
-        }
+        const double r = step_rate(model, J, data, p, h);
+        if (r > largest) largest = r;
       },
-      Kokkos::Min<double>(dt_limit));
-  return dt_limit;
+      Kokkos::Max<double>(rate));
+  return rate;
+}
+}  // namespace detail
+
+/// Updates stress (and bbar_e, plastic strain, and the temperature by the plastic
+/// work, `plastic_heat`) of the `count` particles of one material; returns min over
+/// particles and directions of h_d / (c_dil + |v_d|), the dilatational wave speed at
+/// the current density rho_0 / J (E58); a rigid material does not limit the step
+/// (returns a huge value). The elastic model runs as a vector loop, the plastic one as
+/// a plain reduction; both reduce the limit's inverse (detail::step_rate).
+inline double stress_update(const NodeGrid& grid, long count, const ParticleData& data,
+                            const SolidModel& model, double dt) {
+  if (model.type == SolidModelType::rigid) return 1e300;
+  const Kokkos::Array<double, 3> h = {grid.h[0], grid.h[1], grid.h[2]};
+  const double rate = model.type == SolidModelType::neo_hookean
+                          ? detail::neo_hookean_update(count, data, model, h)
+                          : detail::neo_hookean_plastic_update(count, data, model, h, dt);
+  return rate > 0 ? 1.0 / rate : 1e300;
 }
 
 }  // namespace mpmice
