@@ -240,7 +240,7 @@ void Cycle::add_burn_step() {
           const double cv = m_pb.materials.eos[b.reactant].cv;
           SumQuanta q = scatter_quanta(b.reactant_slot);
           q.energy = quantum_for(cv * std::ldexp(q.heat, 41) + b.enthalpy * std::ldexp(q.mass, 41));
-          chemical += b.enthalpy * burn_particles(grid, long(ps.size()), ps.data(), cv, b,
+          chemical += b.enthalpy * burn_particles(grid, long(ps.size()), ps.data(), cv, m_pb.solids[b.reactant_slot], b,
                                                   ctx.read<Field4>("burn_dm_CC"), m_burn_cell_mass, src, q);
           burned_out += remove_massless_particles(ps);
         }
@@ -603,7 +603,8 @@ void Cycle::add_lagrangian_steps() {
         // (E30): what the products gained from the particles this step.
         if (reacting)
           add_product_sources(owned, mats, ctx.read<Field4>("reaction_mass_CC"), read_vec(ctx, "reaction_mom_CC"),
-                              ctx.read<Field4>("reaction_eng_CC"), ctx.read<Field4>("temp_CC"), mass,
+                              ctx.read<Field4>("reaction_eng_CC"), read_vec(ctx, "vel_CC"), ctx.read<Field4>("temp_CC"),
+                              mass,
                               write_vec(ctx, "mom_L_CC"), ctx.write<Field4>("int_eng_L_CC"),
                               ctx.write<Field4>("temp_mixed_CC"));
       }});

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 
+#include <mpmice/kernels/lagrangian_values.hpp>
 #include <mpmice/kernels/particle_burn.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 #include <mpmice/kernels/sources.hpp>
@@ -114,7 +115,8 @@ TEST(SimpleBurn, RateThresholdsAndCap) {
 
 // Particles of the reactant (material 0) in two cells of a 2 x 1 x 1 patch: cell 0 burns
 // a third of its particles' mass, cell 1 more than it has. The product (material 1)
-// gains in each cell exactly what that cell's particles lost.
+// gains in each cell exactly what that cell's particles lost: mass, momentum, and energy
+// (thermal, chemical, kinetic, and the strain energy of the stretched particles).
 TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
   const int np = 6;
   ParticleSet ps("reactant", np);
@@ -134,6 +136,8 @@ TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
     d(p, column(ParticleField::vy)) = -0.5 * p;
     d(p, column(ParticleField::vz)) = 0.25;
     d(p, column(ParticleField::temperature)) = 500.0 + 10 * p;
+    // F = diag(1 + 0.01 p, 1, 1): particle 0 unstrained, the others stretched.
+    for (int k = 0; k < 3; ++k) d(p, column(ParticleField::F00) + 4 * k) = k == 0 ? 1.0 + 0.01 * p : 1.0;
     id(p) = p;
     cell_mass[x[p] < 0.01 ? 0 : 1] += 1e-3 * (p + 1);
   }
@@ -152,7 +156,20 @@ TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
   burn.product = 1;
   const double cv = 1000.0;
   NodeGrid grid{{0, 0, 0}, {h[0], h[1], h[2]}, {1 / h[0], 1 / h[1], 1 / h[2]}};
-  const double burned = burn_particles(grid, np, ps.data(), cv, burn, dm, Field3("scratch", 2, 1, 1), src);
+  SolidModel pbx;
+  pbx.density = 1800.0;
+  pbx.bulk_modulus = 5.7e9;
+  pbx.shear_modulus = 2.6e9;
+  // The strain energy of particle p before the burn (E53, by its own formula here).
+  auto strain_energy = [&](int p) {
+    const double s = 1.0 + 0.01 * p, j13 = std::cbrt(1.0 / s);
+    Mat3 bbar = Mat3::zero();
+    bbar(0, 0) = j13 * j13 * s * s;
+    bbar(1, 1) = bbar(2, 2) = j13 * j13;
+    return neo_hookean_energy(s, bbar, pbx.bulk_modulus, pbx.shear_modulus) * 1e-3 * (p + 1) / pbx.density;
+  };
+  EXPECT_GT(strain_energy(3), 1e-10 * 1e-3 * 4 * cv * 530);  // far above the 1e-14 tolerance of the sums below
+  const double burned = burn_particles(grid, np, ps.data(), cv, pbx, burn, dm, Field3("scratch", 2, 1, 1), src);
   const double expected = cell_mass[0] / 3 + cell_mass[1];
   EXPECT_NEAR(burned, expected, 1e-15 * expected);
 
@@ -168,8 +185,14 @@ TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
     EXPECT_NEAR(after(p, column(ParticleField::volume)) * 1800.0, m1, 1e-15 * m0) << p;
     const double lost = m0 - m1;
     lost_m[c] += lost;
-    lost_e[c] += lost * (cv * after(p, column(ParticleField::temperature)) + burn.enthalpy);
-    for (int k = 0; k < 3; ++k) lost_p[c][k] += lost * after(p, column(ParticleField::vx) + k);
+    double speed2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double v = after(p, column(ParticleField::vx) + k);
+      lost_p[c][k] += lost * v;
+      speed2 += v * v;
+    }
+    lost_e[c] += lost * (cv * after(p, column(ParticleField::temperature)) + burn.enthalpy + 0.5 * speed2) +
+                 (lost / m0) * strain_energy(p);
   }
   for (int c = 0; c < 2; ++c) {
     // Same sums in another order: equal to a few ulps.
@@ -187,6 +210,71 @@ TEST(SimpleBurn, ParticlesGiveTheProductWhatTheyLose) {
   auto ids = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
   for (int p = 0; p < 3; ++p) EXPECT_EQ(ids(p), p);
   EXPECT_EQ(remove_massless_particles(ps), 0);
+}
+
+// The products take the burned solid's momentum and energy in one cell (E30). Total
+// energy is kept: the gas's internal energy plus the kinetic energy of its momentum
+// after = before + dE, where dE carries the burned solid's kinetic energy; what the
+// merged momentum does not hold as kinetic energy is heat, never negative.
+TEST(ReactionSources, ProductKeepsTheEnergyItIsGiven) {
+  MaterialTable mats;
+  mats.count = 2;
+  for (int m = 0; m < 2; ++m) {
+    mats.eos[m].type = EosType::ideal_gas;
+    mats.eos[m].gamma = 1.4;
+    mats.eos[m].cv = 716.0;
+  }
+  IndexBox cell;
+  cell.hi[0] = cell.hi[1] = cell.hi[2] = 1;
+  auto f4 = [](const char* name) { return Field4(std::string(name), 2, 1, 1, 1); };
+  Field4 dm = f4("dm"), de = f4("de"), temp = f4("T"), mass = f4("mL"), eng = f4("EL"), mixed = f4("Tmix");
+  Kokkos::Array<Field4, 3> dp = {f4("dpx"), f4("dpy"), f4("dpz")}, vel = {f4("ux"), f4("uy"), f4("uz")},
+                           mom = {f4("px"), f4("py"), f4("pz")};
+  const double M = 2e-6, T = 900.0, u[3] = {10.0, -5.0, 2.0}, kick[3] = {1e-6, 0.0, -2e-7};
+  const double dmass = 5e-7, v[3] = {300.0, 40.0, 0.0}, internal = dmass * (996.0 * 600.0 + 2e6);
+  const double burned_kinetic = 0.5 * dmass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  auto set = [](const Field4& f, double value) {
+    auto h = Kokkos::create_mirror_view(f);
+    Kokkos::deep_copy(h, 0.0);
+    h(1, 0, 0, 0) = value;
+    Kokkos::deep_copy(f, h);
+  };
+  set(dm, dmass);
+  set(de, internal + burned_kinetic);
+  set(temp, T);
+  set(mass, M);
+  set(eng, M * 716.0 * T);
+  for (int d = 0; d < 3; ++d) {
+    set(dp[d], dmass * v[d]);
+    set(vel[d], u[d]);
+    set(mom[d], M * u[d] + kick[d]);
+  }
+  add_product_sources(cell, mats, dm, {dp[0], dp[1], dp[2]}, de, {vel[0], vel[1], vel[2]}, temp, mass,
+                      {mom[0], mom[1], mom[2]}, eng, mixed);
+  auto at = [](const Field4& f) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
+    return h(1, 0, 0, 0);
+  };
+  const double mass_after = at(mass);
+  EXPECT_DOUBLE_EQ(mass_after, M + dmass);
+  double kinetic_before = 0, kinetic_after = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double p_after = at(mom[d]) - kick[d];  // the momentum before the kick, with the product's
+    EXPECT_NEAR(p_after, M * u[d] + dmass * v[d], 1e-15 * M * 300.0) << d;
+    kinetic_before += 0.5 * M * u[d] * u[d];
+    kinetic_after += 0.5 * p_after * p_after / mass_after;
+  }
+  const double before = M * 716.0 * T + kinetic_before + internal + burned_kinetic;
+  const double after = at(eng) + kinetic_after;
+  // Sums of numbers of one sign: a few ulps of the total.
+  EXPECT_NEAR(after, before, 1e-14 * before);
+  // The relative motion (290 m/s) became heat: the gas gained more than the solid's
+  // internal and chemical energy, by (1/2) mu |v - u|^2 with mu = M dm / (M + dm).
+  const double mu = M * dmass / (M + dmass);
+  double relative2 = 0;
+  for (int d = 0; d < 3; ++d) relative2 += (v[d] - u[d]) * (v[d] - u[d]);
+  EXPECT_NEAR(at(eng) - M * 716.0 * T - internal, 0.5 * mu * relative2, 1e-9 * 0.5 * mu * relative2);
+  EXPECT_NEAR(at(mixed), at(eng) / (mass_after * 716.0), 1e-12 * T);
 }
 
 namespace {

@@ -12,6 +12,7 @@
 /// gains is one a particle lost (docs/design.md, "Reactions").
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
+#include <mpmice/kernels/particle_totals.hpp>
 #include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/simple_burn.hpp>
 
@@ -29,15 +30,18 @@ struct ProductSources {
 /// particles in cell c and dm_c = `burn_dm`(reactant, c), every particle in c loses the
 /// fraction f = min(dm_c / M_c, 1) of its mass, and its volume in proportion (f within
 /// 1e-12 of 1 is 1: the particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
-/// momentum m_l v_p and internal energy m_l (c_v,s T_p + dh), added into `src` (zeroed
-/// by the caller). `cell_mass` is scratch of the patch's cell extent. A particle's cell
+/// momentum m_l v_p and energy m_l (c_v,s T_p + dh + |v_p|^2 / 2) + (m_l / m_p) W_p,
+/// added into `src` (zeroed by the caller): all the energy the burned solid had,
+/// thermal, chemical, kinetic and the strain energy W_p it stored (`model`). The
+/// product's own kinetic energy comes from the momentum; what the burned solid brought
+/// beyond it is heat (add_product_sources). `cell_mass` is scratch of the patch's cell extent. A particle's cell
 /// is `grid.cell` (from the grid's origin, the same on every decomposition). Returns the mass the
 /// particles lost on this rank (kg; times dh: the heat of reaction released).
 /// With quanta `q` (quanta.hpp) every sum is independent of the particles' order: the
 /// particle masses must then be multiples of q.mass, and the lost mass is rounded to it,
 /// so a particle still loses exactly what its cell's product gains.
 inline double burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
-                             const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
+                             const SolidModel& model, const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
                              const ProductSources& src, const SumQuanta& q = SumQuanta()) {
   if (count == 0) return 0.0;
   const SimpleBurn b = burn;
@@ -64,6 +68,7 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
         if (!(dm > 0) || !(M > 0)) return;
         const double f = dm / M;
         const double m = data(p, column(ParticleField::mass));
+        const double strain = particle_strain_energy(model, data, p);
         double lost = on_grid(f * m, q.mass), kept = m - lost;
         if (f >= 1.0 - 1e-12 || !(kept > 0)) {  // burned out
           lost = m;
@@ -73,11 +78,14 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
         data(p, column(ParticleField::volume)) *= kept / m;
         const int g = b.product;
         Kokkos::atomic_add(&out.mass(g, c[0], c[1], c[2]), lost);
-        for (int d = 0; d < 3; ++d)
-          Kokkos::atomic_add(&out.momentum[d](g, c[0], c[1], c[2]),
-                             on_grid(lost * data(p, column(ParticleField::vx) + d), q.momentum));
-        Kokkos::atomic_add(&out.energy(g, c[0], c[1], c[2]),
-                           on_grid(lost * (reactant_cv * data(p, column(ParticleField::temperature)) + b.enthalpy), q.energy));
+        double speed2 = 0;
+        for (int d = 0; d < 3; ++d) {
+          const double v = data(p, column(ParticleField::vx) + d);
+          speed2 += v * v;
+          Kokkos::atomic_add(&out.momentum[d](g, c[0], c[1], c[2]), on_grid(lost * v, q.momentum));
+        }
+        const double specific = reactant_cv * data(p, column(ParticleField::temperature)) + b.enthalpy + 0.5 * speed2;
+        Kokkos::atomic_add(&out.energy(g, c[0], c[1], c[2]), on_grid(lost * specific + (lost / m) * strain, q.energy));
         lost_sum += lost;
       },
       lost_mass);
@@ -86,10 +94,12 @@ inline double burn_particles(const NodeGrid& grid, long count, const ParticleDat
 
 /// The specific volume the new gas takes where it is created (m^3/kg; 0 where a material
 /// gained no mass): at the cell's pressure p_eq and its own temperature
-/// T_new = dE / (dm c_v), v = 1 / rhoM(p_eq, T_new). The gas leaves a burning surface at
-/// about the surrounding pressure (a deflagration is nearly isobaric); creating it at
-/// a smaller volume would compress it for free and let it lose that energy when it
-/// expands. Used for dP_mx (E20) and the new volume in (E32).
+/// T_new = dE / (dm c_v), v = 1 / rhoM(p_eq, T_new). (dE includes the burned solid's
+/// kinetic energy, part of which stays kinetic in the merged gas: at 300 m/s, 2% of
+/// c_v T_new here; the next equilibration corrects the volume.) The gas leaves a
+/// burning surface at about the surrounding pressure (a deflagration is nearly
+/// isobaric); creating it at a smaller volume would compress it for free and let it
+/// lose that energy when it expands. Used for dP_mx (E20) and the new volume in (E32).
 inline void new_gas_specific_volume(const IndexBox& cells, const MaterialTable& mats, const ConstField4& mass_source,
                                     const ConstField4& energy_source, const ConstField3& press_eq,
                                     const Field4& sp_vol_new) {

@@ -9,6 +9,21 @@
 
 namespace mpmice {
 
+/// The strain energy particle p stores, J: W per reference volume (E53, E54; a failed
+/// particle only its compression) times its reference volume m / rho_0. 0 for a rigid
+/// material.
+KOKKOS_INLINE_FUNCTION double particle_strain_energy(const SolidModel& model, const ParticleData& data, long p) {
+  if (model.type == SolidModelType::rigid) return 0.0;
+  const Mat3 F = load_tensor(data, p, ParticleField::F00);
+  const double J = F.det(), j13 = math::inverse_cube_root(J);
+  const Mat3 bbar = model.type == SolidModelType::neo_hookean_plastic ? load_tensor(data, p, ParticleField::be00)
+                                                                      : (j13 * j13) * (F * F.transpose());
+  const bool failed = data(p, column(ParticleField::plastic_strain)) >= model.failure_strain;
+  const double w = failed ? failed_energy(J, model.bulk_modulus)
+                          : neo_hookean_energy(J, bbar, model.bulk_modulus, model.shear_modulus);
+  return w * data(p, column(ParticleField::mass)) / model.density;
+}
+
 inline MaterialTotals particle_totals(long count, const ParticleData& data, const SolidModel& model) {
   MaterialTotals total;
   Kokkos::parallel_reduce(
@@ -21,19 +36,7 @@ inline MaterialTotals particle_totals(long count, const ParticleData& data, cons
         t.value[1] += m * vx;
         t.value[2] += m * vy;
         t.value[3] += m * vz;
-        double strain = 0;
-        if (model.type != SolidModelType::rigid) {
-          const Mat3 F = load_tensor(data, p, ParticleField::F00);
-          const double J = F.det(), j13 = math::inverse_cube_root(J);
-          const Mat3 bbar = model.type == SolidModelType::neo_hookean_plastic
-                                ? load_tensor(data, p, ParticleField::be00)
-                                : (j13 * j13) * (F * F.transpose());
-          // Energy per reference volume times the reference volume m / rho_0.
-          const bool failed = data(p, column(ParticleField::plastic_strain)) >= model.failure_strain;
-          strain = (failed ? failed_energy(J, model.bulk_modulus)
-                           : neo_hookean_energy(J, bbar, model.bulk_modulus, model.shear_modulus)) *
-                   m / model.density;
-        }
+        const double strain = particle_strain_energy(model, data, p);
         t.value[4] += 0.5 * m * (vx * vx + vy * vy + vz * vz) + strain;
       },
       Kokkos::Sum<MaterialTotals>(total));
