@@ -424,7 +424,7 @@ void Cycle::add_pressure_steps() {
                        {"rho_CC", 0}},
                       vec("vel_FCME", 1)}),
       cat<FieldWrite>({{{"adv_vol_frac_CC"}, {"delP_Dilatate"}, {"delP_MassX"}, {"press_CC_new"}, {"sum_rho_CC"}},
-                       vec_out("vol_flux_FC"), new_gas_write}),
+                       vec_out("vol_flux_FC"), vec_out("solid_vol_flux_FC"), new_gas_write}),
       [=, &dt](const StepContext& ctx) {
         const auto U = read_vec(ctx, "vel_FCME");
         const double outflux = max_outflux_fraction(owned, h, dt, n, U);
@@ -435,13 +435,22 @@ void Cycle::add_pressure_steps() {
         const auto flux_names = components("vol_flux_FC");
         const Field3 flux[3] = {ctx.write<Field3>(flux_names[0]), ctx.write<Field3>(flux_names[1]),
                                 ctx.write<Field3>(flux_names[2])};
-        for (int d = 0; d < 3; ++d) Kokkos::deep_copy(flux[d], 0.0);
+        const auto solid_flux_names = components("solid_vol_flux_FC");
+        const Field3 solid_flux[3] = {ctx.write<Field3>(solid_flux_names[0]), ctx.write<Field3>(solid_flux_names[1]),
+                                      ctx.write<Field3>(solid_flux_names[2])};
+        for (int d = 0; d < 3; ++d) {
+          Kokkos::deep_copy(flux[d], 0.0);
+          Kokkos::deep_copy(solid_flux[d], 0.0);
+        }
         for (int m = 0; m < n; ++m) {
           if (second_order) limited_gradient(p.ghosted_cells(1), h, theta, m, ConstField4(), GradientField(), m_grad);
           face_fluxes(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), m_face_flux);
           flux_difference(owned, 1.0 / V, m_face_flux, m, adv);
-          // The fluids' volume fluxes, for the pressure work's heat (pressure_work_heat.hpp).
+          // The fluids' and the deforming solids' volume fluxes, for the pressure work's
+          // heat (pressure_work_heat.hpp).
           if (mats.is_ice(m)) add_face_fluxes(owned, m_face_flux, FaceFluxes{flux[0], flux[1], flux[2]});
+          else if (!mats.is_rigid(m))
+            add_face_fluxes(owned, m_face_flux, FaceFluxes{solid_flux[0], solid_flux[1], solid_flux[2]});
         }
         const auto press = ctx.write<Field3>("press_CC_new");
         // dP_mx (E20) with the new gas's own specific volume (new_gas_specific_volume).
@@ -635,13 +644,11 @@ void Cycle::add_lagrangian_steps() {
   const auto gravity = pb.input.ice.gravity;
   m_steps.push_back(Step{
       "pressure_work_heat",
-      cat<FieldRead>({vec("press_FC", 0), vec("vol_flux_FC", 0),
+      cat<FieldRead>({vec("press_FC", 0), vec("vol_flux_FC", 0), vec("solid_vol_flux_FC", 0),
                       {{"vol_frac_CC", 1},
-                       {"press_CC_new", 0},
                        {"int_eng_source_CC", 0},
-                       {"kappa_CC", 0},
-                       {"sumKappa_CC", 0},
-                       {"adv_vol_frac_CC", 0},
+                       {"kappa_CC", 1},
+                       {"sumKappa_CC", 1},
                        {"rho_CC", 0},
                        {"mass_L_CC", 0}},
                       vec("mom_L_CC", 0), vec("mom_source_CC", 0), vec("vel_ME_CC", 0)}),
@@ -652,12 +659,12 @@ void Cycle::add_lagrangian_steps() {
         for (int d = 0; d < 3; ++d) in.press_face[d] = ctx.read<Field3>(c[d]);
         const auto flux_names = components("vol_flux_FC");
         for (int d = 0; d < 3; ++d) in.face_flux[d] = ctx.read<Field3>(flux_names[d]);
+        const auto solid_flux_names = components("solid_vol_flux_FC");
+        for (int d = 0; d < 3; ++d) in.solid_face_flux[d] = ctx.read<Field3>(solid_flux_names[d]);
         in.vol_frac = ctx.read<Field4>("vol_frac_CC");
-        in.press = ctx.read<Field3>("press_CC_new");
         in.work = ctx.read<Field4>("int_eng_source_CC");
         in.kappa = ctx.read<Field4>("kappa_CC");
         in.sum_kappa = ctx.read<Field3>("sumKappa_CC");
-        in.adv_vol_frac = ctx.read<Field4>("adv_vol_frac_CC");
         in.rho = ctx.read<Field4>("rho_CC");
         in.mass_L = ctx.read<Field4>("mass_L_CC");
         in.mom_L = read_vec(ctx, "mom_L_CC");
@@ -752,7 +759,21 @@ void Cycle::add_particle_update_steps() {
                                                  write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
                          }});
   Reads g2p_reads = cat<FieldRead>({vec("vel_star_NC", 1), vec("acc_NC", 1)});
-  if (heat) g2p_reads.push_back({"temp_rate_NC", 1});
+  if (heat) {
+    g2p_reads.push_back({"temp_rate_NC", 1});
+    g2p_reads.push_back({"transfer_energy_NC", 1});
+    // What the transfers owe the particles as heat (transfer_energy_to_nodes), from the
+    // node increments after their conditions.
+    const IndexBox inside = nodes_inside_cells(p);
+    m_steps.push_back(Step{"transfer_energy", cat<FieldRead>({vec("dVdt_CC", 1), vec("acc_NC", 0)}),
+                           {{"transfer_energy_NC"}}, [=, &dt](const StepContext& ctx) {
+                             const auto energy = ctx.write<Field4>("transfer_energy_NC");
+                             for (int s = 0; s < ns; ++s)
+                               if (m_pb.solids[s].type != SolidModelType::rigid)
+                                 transfer_energy_to_nodes(inside, s, dt, read_vec(ctx, "dVdt_CC"),
+                                                          read_vec(ctx, "acc_NC"), energy);
+                           }});
+  }
   m_steps.push_back(Step{"g2p", g2p_reads, {}, [=, &dt](const StepContext& ctx) {
                            const auto vel_star = read_vec(ctx, "vel_star_NC");
                            const auto acc = read_vec(ctx, "acc_NC");
@@ -763,9 +784,11 @@ void Cycle::add_particle_update_steps() {
                              // Mid-step velocity: the stroke integrates the ramp to second order.
                              const Kokkos::Array<double, 3> v = model.rigid_velocity(m_time + 0.5 * dt);
                              const ParticleSet& ps = m_pb.particles[s];
+                             TransferHeat transfer;
+                             if (heat) transfer = {ctx.read<Field4>("transfer_energy_NC"), m_pb.materials.eos[m_pb.mpm[s]].cv};
                              with_shape(gimp, [&](auto shape) {
                                g2p<decltype(shape)>(grid, long(ps.size()), ps.data(), s, dt, pic, rigid, v, vel_star,
-                                                    acc, rate);
+                                                    acc, rate, transfer);
                              });
                            }
                          }});

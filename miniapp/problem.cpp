@@ -38,6 +38,7 @@ void register_node_fields(Problem& pb) {
   pb.fields.set_valid_ghosts("NC_CCweight", p.ghosts);  // computed on every node, never changes
   pb.fields.add("press_NC", make_field("press_NC", p, Location::node), Location::node);
   pb.fields.add("dTdt_CC", make_field("dTdt_CC", p, Location::cell, n), Location::cell);
+  pb.fields.add("transfer_energy_NC", make_field("transfer_energy_NC", p, Location::node, n), Location::node);
   for (const auto& c : components("dVdt_CC")) pb.fields.add(c, make_field(c, p, Location::cell, n), Location::cell);
 }
 
@@ -153,6 +154,7 @@ void register_fields(Problem& pb) {
   // Step 7
   cell4("adv_vol_frac_CC");
   face3("vol_flux_FC");  // the fluids' volume flux through each face (pressure_work_heat)
+  face3("solid_vol_flux_FC");  // the deforming solids' volume flux through each face (the same)
   cell3("delP_Dilatate");
   cell3("delP_MassX");
   cell3("sum_rho_CC");

@@ -40,4 +40,45 @@ inline void cell_rates_to_nodes(const IndexBox& nodes, int s, double dt, const C
       });
 }
 
+/// The energy per unit mass that the transfer of a solid's increments to its particles
+/// owes them as heat, on node slot s (an addition to mpmice-algorithm.md, for energy
+/// conservation; docs/design.md, "Energy of the solids' transfers"):
+///   q_i = <|du_c|^2> / 2 + |D_i|^2 - |dv_i|^2
+/// with du_c = dt aV_c the increments of the 8 cells around node i (E33), dv_i their
+/// mean (E34) and D_i = dt a_i the node's whole increment (internal force and dv, after
+/// the node conditions). g2p adds sum_i S_ip q_i - |Dv_p|^2 / 2 to c_v T_p, with
+/// Dv_p = sum_i S_ip D_i the particle's increment (E35). Per particle that is the sum of
+/// - what the two averages smooth away: the cells were charged (1/2) m_c |du_c|^2 and the
+///   nodes (1/2) m_i |D_i|^2, the particle gets (1/2) m_p |Dv_p|^2 (variances, >= 0);
+/// - the internal force's work made to match what was charged for it: the strain follows
+///   the end velocity v_i + D_i (E36), so the stress works f_i . (v_i + D_i) dt, while
+///   the force's own kinetic energy is f_i . (v_i + a dt / 2) dt (a = D_i / dt - dv_i / dt)
+///   and the cells charged the exchange at v_i + a dt; the difference per node is
+///   (1/2) m_i (|D_i|^2 - |dv_i|^2).
+/// Where a trace of a solid is locked to its gas by the stiff drag, the internal force
+/// and the exchange nearly cancel on its nodes, each large; without this heat a whole
+/// burn of problems/burn_box.yaml made 40% of its initial energy from nothing.
+inline void transfer_energy_to_nodes(const IndexBox& nodes, int s, double dt, const ConstVectorField4& cell_acc,
+                                     const ConstVectorField4& acc, const Field4& energy) {
+  Kokkos::parallel_for(
+      "mpmice::transfer_energy_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double mean[3] = {0, 0, 0}, square = 0;
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c)
+              for (int d = 0; d < 3; ++d) {
+                const double du = dt * cell_acc[d](s, i - a, j - b, k - c);
+                mean[d] += 0.125 * du;
+                square += 0.125 * du * du;
+              }
+        double whole = 0, own = 0;
+        for (int d = 0; d < 3; ++d) {
+          const double D = dt * acc[d](s, i, j, k);
+          whole += D * D;
+          own += mean[d] * mean[d];
+        }
+        energy(s, i, j, k) = 0.5 * square + whole - own;
+      });
+}
+
 }  // namespace mpmice

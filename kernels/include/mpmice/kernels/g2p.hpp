@@ -28,26 +28,37 @@ KOKKOS_INLINE_FUNCTION Mat3 deformation_increment(const Mat3& L, double dt) {
   return increment;
 }
 
+/// What MPMICE's g2p adds to a particle's heat besides the nodes' rate (E35): the
+/// transfer's energy `node_energy` (transfer_energy_to_nodes) and the gas pressure's work
+/// on the particle's volume; `cv` the material's c_v, J/kg/K. Empty for MPM alone.
+struct TransferHeat {
+  ConstField4 node_energy;
+  double cv = 0;
+};
+
 namespace detail {
-/// (E35, E36) for the particles of a material that deforms; `Heat`: temp_rate given.
+/// (E35, E36) for the particles of a material that deforms; `Heat`: temp_rate given;
+/// `Transfer`: the heat of `TransferHeat` too.
 /// Returns 1 if a particle's deformation needs more than one sub-step (its F and V are
 /// then left for `g2p_substeps`), else 0.
-template <class Shape, bool Heat>
+template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
-                     const ConstField4& temp_rate) {
+                     const ConstField4& temp_rate, const TransferHeat& transfer) {
   constexpr int n = Shape::nodes;
   const NodeStencil<n> nodes(vel_star[0], m);
   const Kokkos::Array<ConstNodeArray, 3> v_node = {node_array(vel_star[0]), node_array(vel_star[1]),
                                                    node_array(vel_star[2])};
   const Kokkos::Array<ConstNodeArray, 3> a_node = {node_array(acc[0]), node_array(acc[1]), node_array(acc[2])};
   const ConstNodeArray t_node = node_array(temp_rate);
+  const ConstNodeArray q_node = node_array(transfer.node_energy);
+  const double inverse_cv = Transfer ? 1.0 / transfer.cv : 0.0;
   return reduce_over_particles<Reduction::max>("mpmice::g2p", count, KOKKOS_LAMBDA(long p) {
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = nodes.at(wt.first), middle = nodes.middle(first);
-    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0;
+    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0, qs = 0;
     Mat3 L = Mat3::zero();
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
@@ -58,6 +69,7 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
           wt.gradient(a, b, c, g);
           for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
           if constexpr (Heat) ts += S * t_node(o);
+          if constexpr (Transfer) qs += S * q_node(o);
           for (int d = 0; d < 3; ++d) {
             const double v = v_node[d](o);
             vs[d] += S * v;
@@ -72,7 +84,22 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
       v = (1.0 - pic_fraction) * (v + dt * as[d]) + pic_fraction * vs[d];
       data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
     }
-    data(p, column(ParticleField::temperature)) += dt * ts;
+    double& T = data(p, column(ParticleField::temperature));
+    if constexpr (Transfer) {
+      // The transfer's heat (transfer_energy_to_nodes) and the work of (E24)'s
+      // isotropic part pp - q on the particle's volume, V (pp - q) tr(L) dt, which is
+      // neither strain energy nor received by a fluid (the equilibration hands the
+      // volume over at fixed temperature). With the nodes' rate, at most half of c_v T
+      // leaves in one step: a trace particle on nodes where the internal force and the
+      // exchange nearly cancel can owe more than it holds.
+      const double increment2 = dt * dt * (as[0] * as[0] + as[1] * as[1] + as[2] * as[2]);
+      const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
+      const double gauge_work = data(p, column(ParticleField::volume)) * iso * L.trace() * dt;
+      double dT = dt * ts + (qs - 0.5 * increment2 + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
+      T += dT < -0.5 * T ? -0.5 * T : dT;
+    } else {
+      T += dt * ts;
+    }
     store_tensor(data, p, ParticleField::L00, L);
     // One sub-step, F_new = (I + dt L) F, here; more are left to g2p_substeps.
     const bool one_step = deformation_substeps(L, dt) == 1;
@@ -100,7 +127,9 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
 }  // namespace detail
 
 /// For the particles of material slot m: v_p <- (1-a)(v_p + dt sum S a_i) + a sum S v*_i,
-/// x_p += dt sum S v*_i, T_p += dt sum S aT_i (E35; `temp_rate` may be empty),
+/// x_p += dt sum S v*_i, T_p += dt sum S aT_i (E35; `temp_rate` may be empty) plus, with
+/// `transfer` (MPMICE), the heat it describes (for FLIP, a = 0: the kinetic energy a PIC
+/// fraction removes is not returned),
 /// L_p = sum v*_i (x) grad S_ip, F <- (I + L dt/n)^n F, V_p <- V_p J_new/J_old (E36).
 /// A rigid material moves with `rigid_velocity`.
 ///
@@ -111,7 +140,7 @@ template <class Shape>
 void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
          double pic_fraction, bool rigid, Kokkos::Array<double, 3> rigid_velocity,
          const ConstVectorField4& vel_star, const ConstVectorField4& acc,
-         const ConstField4& temp_rate = ConstField4()) {
+         const ConstField4& temp_rate = ConstField4(), const TransferHeat& transfer = TransferHeat()) {
   if (rigid) {
     for_each_particle("mpmice::g2p_rigid", count, KOKKOS_LAMBDA(long p) {
       for (int d = 0; d < 3; ++d) {
@@ -123,8 +152,10 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
   }
   double substepped = 0;
   with_flag(temp_rate.data() != nullptr, [&](auto heat) {
-    substepped = detail::g2p_deforming<Shape, decltype(heat)::value>(grid, count, data, m, dt, pic_fraction,
-                                                                    vel_star, acc, temp_rate);
+    with_flag(transfer.node_energy.data() != nullptr, [&](auto owed) {
+      substepped = detail::g2p_deforming<Shape, decltype(heat)::value, decltype(owed)::value>(
+          grid, count, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
+    });
   });
   if (substepped > 0) detail::g2p_substeps(count, data, dt);
 }

@@ -23,12 +23,11 @@ namespace mpmice {
 struct PressureWorkInputs {
   Kokkos::Array<ConstField3, 3> press_face;  ///< p^f (E21) on the faces of the cells
   Kokkos::Array<ConstField3, 3> face_flux;   ///< Phi^f: the fluids' volume flux (face_fluxes)
+  Kokkos::Array<ConstField3, 3> solid_face_flux;  ///< Phi_s^f: the deforming solids' volume flux
   ConstField4 vol_frac;                      ///< theta_r (E16)
-  ConstField3 press;                         ///< p^{n+1} (E20)
   ConstField4 work;                          ///< the fluids' energy sources W_r (E23)
-  ConstField4 kappa;                         ///< kappa_r (E16)
-  ConstField3 sum_kappa;                     ///< SK (E16)
-  ConstField4 adv_vol_frac;                  ///< Adv[theta_r] (E20)
+  ConstField4 kappa;                         ///< kappa_r (E16), one layer of ghosts
+  ConstField3 sum_kappa;                     ///< SK (E16), one layer of ghosts
   ConstField4 rho;                           ///< rho_r^n, for the gravity part of Q_r
   ConstField4 mass_L;                        ///< mL_r (E29, E30)
   ConstVectorField4 mom_L;                   ///< PL_r (E27-E30), including Q_r
@@ -80,18 +79,36 @@ double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3
           flux_work -= f.press_face[d](hi[0], hi[1], hi[2]) * f.face_flux[d](hi[0], hi[1], hi[2]) -
                        f.press_face[d](i, j, k) * f.face_flux[d](i, j, k);
         });
-        // The solids' push on the fluids: their share of the solids' volume flux, p V
-        // (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]. What (E23) charged: the sum
-        // of the fluids' energy sources (its mass-exchange part sums to zero in a cell).
-        double theta_kappa = 0, solid_adv = 0, charged = 0;
-        unrolled_for<N>([&](int r) {
-          const double theta = f.vol_frac(r, i, j, k), kappa = f.kappa(r, i, j, k);
-          solid_adv += (1.0 - ice[r]) * f.adv_vol_frac(r, i, j, k);
-          charged += ice[r] * f.work(r, i, j, k);
-          theta_kappa += theta > 1e-6 ? ice[r] * (theta * kappa) : 0.0;
+        // The fluids' share of a volume change in cell (a, b, c): sum_ICE theta kappa / SK.
+        auto fluid_share = [&](long a, long b, long c) {
+          double theta_kappa = 0;
+          unrolled_for<N>([&](int r) {
+            const double theta = f.vol_frac(r, a, b, c);
+            theta_kappa += theta > 1e-6 ? ice[r] * (theta * f.kappa(r, a, b, c)) : 0.0;
+          });
+          const double sum_kappa = f.sum_kappa(a, b, c);  // 0 in an extra cell past a wall
+          return sum_kappa > 0.0 ? theta_kappa / sum_kappa : 0.0;
+        };
+        // The solids' push on the fluids in flux form: their volume flux through each
+        // face at the face pressure, times the fluids' share (the mean of the face's two
+        // cells). It telescopes: volume the solids carry from one cell to the next moves
+        // energy between those cells' fluids, and none is made or lost over the grid.
+        const double share = fluid_share(i, j, k);
+        double solid_push = 0;
+        unrolled_for<3>([&](int d) {
+          const long hi[3] = {i + (d == 0), j + (d == 1), k + (d == 2)};
+          const long lo[3] = {i - (d == 0), j - (d == 1), k - (d == 2)};
+          const double share_lo = 0.5 * (share + fluid_share(lo[0], lo[1], lo[2]));
+          const double share_hi = 0.5 * (share + fluid_share(hi[0], hi[1], hi[2]));
+          solid_push += share_lo * f.press_face[d](i, j, k) * f.solid_face_flux[d](i, j, k) -
+                        share_hi * f.press_face[d](hi[0], hi[1], hi[2]) * f.solid_face_flux[d](hi[0], hi[1], hi[2]);
         });
-        const double solid_push = V * f.press(i, j, k) * theta_kappa * solid_adv / f.sum_kappa(i, j, k);
-        // Kinetic energy from the fluids' pressure kick and from the exchange.
+        // What (E23) charged: the sum of the fluids' energy sources (its mass-exchange
+        // part sums to zero in a cell).
+        double charged = 0;
+        unrolled_for<N>([&](int r) { charged += ice[r] * f.work(r, i, j, k); });
+        // Kinetic energy from the pressure kick (E22) and the exchange, every
+        // non-rigid material's: the fluids pay for the solids' kick too.
         double kinetic = 0, thermal = 0;
         unrolled_for<N>([&](int r) {
           const double m = f.mass_L(r, i, j, k);
@@ -99,7 +116,7 @@ double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3
           double after = 0, before = 0;
           unrolled_for<3>([&](int d) {
             const double u = f.vel_me[d](r, i, j, k);
-            const double kick = ice[r] * (f.mom_source[d](r, i, j, k) - weight * gravity[d]);
+            const double kick = (1.0 - rigid[r]) * (f.mom_source[d](r, i, j, k) - weight * gravity[d]);
             const double p0 = f.mom_L[d](r, i, j, k) - kick;
             after += u * u;
             before += p0 * p0;
@@ -126,17 +143,18 @@ double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3
 
 /// Over `cells`, the heat
 ///   heat_c = - sum_faces (outward) p^f Phi^f          the fluids' work in flux form
-///            + p V (sum_ICE theta kappa / SK) sum_solids Adv[theta_s]
-///                                                     the solids' push on the fluids
+///            - sum_faces (outward) s^f p^f Phi_s^f     the solids' push on the fluids
 ///            - sum_ICE W_r                            what (E23) and mass_exchange_work charged
 ///            - sum_r [mL_r |u_r^ME|^2 - |PL_r - Q_r|^2 / mL_r] / 2
 ///                                                     kinetic energy from the kick and exchange
 /// with Phi^f the fluids' volume flux through a face over the step (`face_fluxes`: the
-/// slabs of theta that Adv[theta] of (E20) moves, summed over the ICE materials) and Q_r
-/// the pressure part of the kick (E22) of an ICE material (0 for a solid: the push pays
-/// for a solid's kick, counting it again would charge the fluids twice). Over a closed
-/// box the first term sums to zero: the fluids' pressure work becomes exactly the kinetic
-/// energy it makes and the solids' push. Cells holding a rigid material (theta > 1e-6),
+/// slabs of theta that Adv[theta] of (E20) moves, summed over the ICE materials), Phi_s^f
+/// the same for the deforming solids, s^f the fluids' share sum_ICE theta kappa / SK
+/// averaged over the face's two cells, and Q_r the pressure part of the kick (E22) of a
+/// non-rigid material (the solids' included: the fluids pay for the kinetic energy they
+/// give the solids, which the particles receive with it, docs/design.md). Over a closed
+/// box the first two terms sum to zero: the fluids' pressure work becomes exactly the
+/// kinetic energy it makes. Cells holding a rigid material (theta > 1e-6),
 /// and their face neighbours, are left alone: a prescribed motion works from outside.
 /// heat_c goes to the non-rigid materials in proportion to m c_v T (one relative
 /// temperature change, so a trace material takes a trace), at most -1/2 of sum m c_v T
