@@ -701,7 +701,21 @@ void Cycle::add_lagrangian_steps() {
             ctx.read<Field3>("delP_Dilatate"), ctx.read<Field4>(temp_before), ctx.read<Field4>("Tdot_CC"),
             mass_source, source_sp_vol, ctx.read<Field3>("delP_MassX")};
         const long bad = lagrangian_specific_volume(owned, V, dt, clamp, mats, in, out);
-        if (global_sum(comm, bad) > 0) throw RedoStep("a Lagrangian specific volume is not positive (E32)");
+        if (global_sum(comm, bad) > 0) {
+          std::string where;
+          if (bad > 0) {  // name the first such cell on this rank (a failure path: on the host)
+            const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+            for (int i = owned.lo[0]; i < owned.hi[0] && where.empty(); ++i)
+              for (int j = owned.lo[1]; j < owned.hi[1] && where.empty(); ++j)
+                for (int k = owned.lo[2]; k < owned.hi[2] && where.empty(); ++k)
+                  for (int m = 0; m < n && where.empty(); ++m)
+                    if (!(h(m, i, j, k) > 0)) {
+                      const int c[3] = {i, j, k};
+                      where = " for material '" + m_pb.input.materials[m].name + "' in cell " + cell_name(p, c);
+                    }
+          }
+          throw RedoStep("a Lagrangian specific volume is not positive (E32)" + where);
+        }
         specific_volume_from_density(with_extra, owned, n, ctx.read<Field4>("vol_frac_CC"),
                                      ctx.read<Field4>("rho_CC"), out);
       }});

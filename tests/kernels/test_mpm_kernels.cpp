@@ -11,6 +11,7 @@
 #include <mpmice/kernels/bad_particles.hpp>
 #include <mpmice/kernels/g2p.hpp>
 #include <mpmice/kernels/grid_state.hpp>
+#include <mpmice/kernels/internal_force.hpp>
 #include <mpmice/kernels/p2g.hpp>
 #include <mpmice/kernels/particle_sort.hpp>
 #include <mpmice/kernels/particle_totals.hpp>
@@ -482,5 +483,81 @@ TEST(Stress, FailedMaterialKeepsOnlyCompression) {
         EXPECT_EQ(s(a, b), want) << "stretch " << stretch << " component " << a << b;
       }
     EXPECT_EQ(stretch < 1, p < 0);
+  }
+}
+
+// A particle's internal forces sum to zero: its stress cannot push itself. Heavy
+// particles with random stresses and gauge pressures, and one of 1e-5 of their mass
+// placed so that a far node's share of its mass rounds to zero (that node gets no
+// force, internal_force.hpp). With the quanta of the driver, every node value is a sum of
+// multiples of the force quantum, so the total over the nodes must be exactly 0. Before
+// the particle's heaviest node took the remainder, the skipped node's force (checked
+// below to be many quanta) was missing from it.
+TEST(InternalForce, EachParticlesForcesSumToZero) {
+  const Patch patch = whole_patch({6, 6, 6}, {0.1, 0.1, 0.1});
+  const NodeGrid grid = node_grid(patch);
+  const long n = 40;
+  ParticleSet ps("solid", n);
+  ps.resize(n);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (long p = 0; p < n; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+    const bool trace = p == n - 1;
+    for (int d = 0; d < 3; ++d) {
+      // The trace particle on node 2's y and z planes and 0.7501 cells past it in x:
+      // node (4, 2, 2) lies 1.2499 cells away, just inside the GIMP support (1.25 cells
+      // for a particle of half a cell).
+      h(p, column(ParticleField::x) + d) = trace ? (d == 0 ? 2.7501 : 2.0) * 0.1 : (1.5 + 3.0 * u(rng)) * 0.1;
+      h(p, column(ParticleField::size_x) + d) = 0.5;
+    }
+    h(p, column(ParticleField::mass)) = trace ? 1e-5 : 0.5 + u(rng);
+    h(p, column(ParticleField::volume)) = h(p, column(ParticleField::mass)) / 2000.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b) {
+        const double v = 1e8 * (u(rng) - 0.5);
+        h(p, tensor_column(ParticleField::s00, a, b)) = v;
+        h(p, tensor_column(ParticleField::s00, b, a)) = v;
+      }
+    h(p, column(ParticleField::gas_pressure)) = 1e7 * u(rng);
+  }
+  Kokkos::deep_copy(ps.data(), h);
+  SumQuanta q;
+  q.mass = quantum_for(1.5);
+  q.internal_force = quantum_for(internal_force_bound(grid, n, ps.data()));
+  // The case is not trivial: the trace particle has a node whose mass share rounds to
+  // zero while its force there is many quanta.
+  double skipped = 0;
+  {
+    double x[3], half[3];
+    particle_position(h, n - 1, x, half);
+    const ParticleWeights<GimpShape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    for (int a = 0; a < GimpShape::nodes; ++a)
+      for (int b = 0; b < GimpShape::nodes; ++b)
+        for (int c = 0; c < GimpShape::nodes; ++c) {
+          double g[3];
+          wt.gradient(a, b, c, g);
+          if (Quantum(q.mass).round(wt.weight(a, b, c) * 1e-5) == 0.0)
+            skipped = std::max(skipped, h(n - 1, column(ParticleField::volume)) * 1e7 *
+                                            std::max(std::abs(g[0]), std::max(std::abs(g[1]), std::abs(g[2]))));
+        }
+  }
+  EXPECT_GT(skipped, 10 * q.internal_force);
+  const Kokkos::Array<Field4, 3> f = {make_field("fx", patch, Location::node, 1),
+                                      make_field("fy", patch, Location::node, 1),
+                                      make_field("fz", patch, Location::node, 1)};
+  internal_force<GimpShape>(grid, n, ps.data(), 0, VectorField4{f[0], f[1], f[2]}, q);
+  for (int d = 0; d < 3; ++d) {
+    const auto fh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f[d]);
+    double total = 0, largest = 0;
+    for (std::size_t i = 0; i < fh.extent(1); ++i)
+      for (std::size_t j = 0; j < fh.extent(2); ++j)
+        for (std::size_t k = 0; k < fh.extent(3); ++k) {
+          total += fh(0, i, j, k);
+          largest = std::max(largest, std::abs(fh(0, i, j, k)));
+        }
+    EXPECT_GT(largest, 1e6 * q.internal_force) << d;  // forces were made
+    EXPECT_EQ(total, 0.0) << d;
   }
 }
