@@ -226,15 +226,23 @@ TEST(Advection, FaceFluxesAddUpToTheChange) {
   }
 }
 
+namespace {
+// A row of 8 cells of 1 cm with one ghost layer: the pressure work tests fill the
+// ghosts with the periodic images themselves.
+Patch row_of_eight_cells() {
+  Grid g;
+  g.cells = {8, 1, 1};
+  g.spacing = {0.01, 0.01, 0.01};
+  return whole_grid_patch(g, 1);
+}
+}  // namespace
+
 // pressure_work_heat's flux form telescopes: on a periodic row of one gas (no solid) the
 // heats add up to minus what (E23) charged minus the kinetic energy the step made, and the
 // cells' c_v T rises by exactly their heat. A face flux booked on the wrong face, or with
 // the wrong sign, leaves the sum of -p^f Phi^f nonzero and fails this.
 TEST(PressureWorkHeat, FluxFormTelescopes) {
-  Grid g;
-  g.cells = {8, 1, 1};
-  g.spacing = {0.01, 0.01, 0.01};
-  const Patch p = whole_grid_patch(g, 1);
+  const Patch p = row_of_eight_cells();
   MaterialTable mats;
   mats.count = 1;
   mats.eos[0] = Eos{EosType::ideal_gas, 1.4, 716.0};
@@ -322,10 +330,7 @@ TEST(PressureWorkHeat, FluxFormTelescopes) {
 // up to zero over the row while single cells' are not. A share taken from one cell only
 // instead of the face's two (or a face booked with the wrong sign) fails the sum.
 TEST(PressureWorkHeat, SolidPushTelescopes) {
-  Grid g;
-  g.cells = {8, 1, 1};
-  g.spacing = {0.01, 0.01, 0.01};
-  const Patch p = whole_grid_patch(g, 1);
+  const Patch p = row_of_eight_cells();
   MaterialTable mats;
   mats.count = 2;
   mats.eos[0] = Eos{EosType::ideal_gas, 1.4, 716.0};

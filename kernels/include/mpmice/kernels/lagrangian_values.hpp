@@ -65,9 +65,9 @@ inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTabl
 /// reactant lost its share on its particles (particle_burn.hpp), not here.
 /// dE_r is the burned solid's whole energy, kinetic included; the gas's kinetic energy
 /// grows by |m u^n + dP|^2 / (2 (m + dm)) - m |u^n|^2 / 2 as it takes the momentum, and
-/// the rest of dE_r (>= its internal part, by Cauchy-Schwarz) is its internal energy: the burned solid
-/// merges with the gas inelastically, and the kinetic energy of their relative motion
-/// becomes heat. (Without it a whole burn of problems/burn_box.yaml lost 13% of its
+/// the rest of dE_r (at least its internal part, by Cauchy-Schwarz) is internal energy:
+/// the burned solid merges with the gas inelastically, and the kinetic energy of their
+/// relative motion becomes heat. (Without it a whole burn of problems/burn_box.yaml lost 13% of its
 /// initial energy at cfl 0.4 and 37% at cfl 0.1: the burning particles' velocities
 /// differ within a cell, and their spread was lost; docs/design.md, "Reactions".)
 /// Also writes `temp_mixed`: T^n, or where a material gained mass, the temperature of
