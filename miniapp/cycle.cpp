@@ -742,11 +742,12 @@ void Cycle::add_lagrangian_steps() {
       }});
   m_steps.push_back(Step{
       "cell_to_node", cat<FieldRead>({vec("dVdt_CC", 1), {{"dTdt_CC", 1}}}),
-      cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC"), {{"temp_rate_NC"}}}),
+      cat<FieldWrite>({vec_out("vel_star_NC"), vec_out("acc_NC"), {{"temp_rate_NC"}, {"transfer_energy_NC"}}}),
       [=, &dt](const StepContext& ctx) {
         for (int s = 0; s < m_pb.solid_count(); ++s)
           cell_rates_to_nodes(inside, s, dt, read_vec(ctx, "dVdt_CC"), ctx.read<Field4>("dTdt_CC"),
-                              write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"), ctx.write<Field4>("temp_rate_NC"));
+                              write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"), ctx.write<Field4>("temp_rate_NC"),
+                              ctx.write<Field4>("transfer_energy_NC"));
       }});
   (void)comm;
   (void)with_extra;
@@ -776,17 +777,6 @@ void Cycle::add_particle_update_steps() {
   if (heat) {
     g2p_reads.push_back({"temp_rate_NC", 1});
     g2p_reads.push_back({"transfer_energy_NC", 1});
-    // What the transfers owe the particles as heat (transfer_energy_to_nodes), from the
-    // node increments after their conditions.
-    const IndexBox inside = nodes_inside_cells(p);
-    m_steps.push_back(Step{"transfer_energy", cat<FieldRead>({vec("dVdt_CC", 1), vec("acc_NC", 0)}),
-                           {{"transfer_energy_NC"}}, [=, &dt](const StepContext& ctx) {
-                             const auto energy = ctx.write<Field4>("transfer_energy_NC");
-                             for (int s = 0; s < ns; ++s)
-                               if (m_pb.solids[s].type != SolidModelType::rigid)
-                                 transfer_energy_to_nodes(inside, s, dt, read_vec(ctx, "dVdt_CC"),
-                                                          read_vec(ctx, "acc_NC"), energy);
-                           }});
   }
   m_steps.push_back(Step{"g2p", g2p_reads, {}, [=, &dt](const StepContext& ctx) {
                            const auto vel_star = read_vec(ctx, "vel_star_NC");

@@ -19,35 +19,15 @@ inline void pressure_to_nodes(const IndexBox& nodes, const ConstField3& press, c
 }
 
 /// (E34) for node slot s: v*_i += dt (1/8) sum aV, a_i += (1/8) sum aV,
-/// aT_i = (1/8) sum aT over the 8 cells around node i (cell rates in slot s).
-inline void cell_rates_to_nodes(const IndexBox& nodes, int s, double dt, const ConstVectorField4& cell_acc,
-                                const ConstField4& cell_temp_rate, const VectorField4& vel_star,
-                                const VectorField4& acc, const Field4& temp_rate) {
-  Kokkos::parallel_for(
-      "mpmice::cell_rates_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double av[3] = {0, 0, 0}, at = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) {
-              for (int d = 0; d < 3; ++d) av[d] += cell_acc[d](s, i - a, j - b, k - c);
-              at += cell_temp_rate(s, i - a, j - b, k - c);
-            }
-        for (int d = 0; d < 3; ++d) {
-          vel_star[d](s, i, j, k) += dt * 0.125 * av[d];
-          acc[d](s, i, j, k) += 0.125 * av[d];
-        }
-        temp_rate(s, i, j, k) = 0.125 * at;
-      });
-}
-
-/// The energy per unit mass that the transfer of a solid's increments to its particles
-/// owes them as heat, on node slot s (an addition to mpmice-algorithm.md, for energy
-/// conservation; docs/design.md, "Energy of the solids' transfers"):
-///   q_i = <|du_c|^2> / 2 + |D_i|^2 - |dv_i|^2
-/// with du_c = dt aV_c the increments of the 8 cells around node i (E33), dv_i their
-/// mean (E34) and D_i = dt a_i the node's whole increment (internal force and dv, after
-/// the node conditions). g2p adds sum_i S_ip q_i - |Dv_p|^2 / 2 to c_v T_p, with
-/// Dv_p = sum_i S_ip D_i the particle's increment (E35). Per particle that is the sum of
+/// aT_i = (1/8) sum aT over the 8 cells around node i (cell rates in slot s). With
+/// `transfer_energy` (MPMICE) also its part of the energy the transfers owe the
+/// particles as heat (an addition to mpmice-algorithm.md, for energy conservation;
+/// docs/design.md, "Energy of the solids' transfers"):
+///   q_i = <|du_c|^2> / 2 - |dv_i|^2
+/// with du_c = dt aV_c the increments of the 8 cells (E33) and dv_i their mean. g2p adds
+/// sum_i S_ip (q_i + |D_i|^2) - |Dv_p|^2 / 2 to c_v T_p, with D_i = dt a_i the node's
+/// whole increment after the node conditions (internal force and dv) and
+/// Dv_p = sum_i S_ip D_i the particle's (E35). Per particle that is the sum of
 /// - what the two averages smooth away: the cells were charged (1/2) m_c |du_c|^2 and the
 ///   nodes (1/2) m_i |D_i|^2, the particle gets (1/2) m_p |Dv_p|^2 (variances, >= 0);
 /// - the internal force's work made to match what was charged for it: the strain follows
@@ -58,26 +38,33 @@ inline void cell_rates_to_nodes(const IndexBox& nodes, int s, double dt, const C
 /// Where a trace of a solid is locked to its gas by the stiff drag, the internal force
 /// and the exchange nearly cancel on its nodes, each large; without this heat a whole
 /// burn of problems/burn_box.yaml made 40% of its initial energy from nothing.
-inline void transfer_energy_to_nodes(const IndexBox& nodes, int s, double dt, const ConstVectorField4& cell_acc,
-                                     const ConstVectorField4& acc, const Field4& energy) {
+inline void cell_rates_to_nodes(const IndexBox& nodes, int s, double dt, const ConstVectorField4& cell_acc,
+                                const ConstField4& cell_temp_rate, const VectorField4& vel_star,
+                                const VectorField4& acc, const Field4& temp_rate,
+                                const Field4& transfer_energy = Field4()) {
+  const bool transfer = transfer_energy.data() != nullptr;
   Kokkos::parallel_for(
-      "mpmice::transfer_energy_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double mean[3] = {0, 0, 0}, square = 0;
+      "mpmice::cell_rates_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+        double av[3] = {0, 0, 0}, at = 0, square = 0;
         for (int a = 0; a < 2; ++a)
           for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c)
+            for (int c = 0; c < 2; ++c) {
               for (int d = 0; d < 3; ++d) {
-                const double du = dt * cell_acc[d](s, i - a, j - b, k - c);
-                mean[d] += 0.125 * du;
-                square += 0.125 * du * du;
+                const double rate = cell_acc[d](s, i - a, j - b, k - c);
+                av[d] += rate;
+                square += rate * rate;
               }
-        double whole = 0, own = 0;
+              at += cell_temp_rate(s, i - a, j - b, k - c);
+            }
+        double mean2 = 0;
         for (int d = 0; d < 3; ++d) {
-          const double D = dt * acc[d](s, i, j, k);
-          whole += D * D;
-          own += mean[d] * mean[d];
+          const double dv = dt * 0.125 * av[d];
+          vel_star[d](s, i, j, k) += dv;
+          acc[d](s, i, j, k) += 0.125 * av[d];
+          mean2 += dv * dv;
         }
-        energy(s, i, j, k) = 0.5 * square + whole - own;
+        temp_rate(s, i, j, k) = 0.125 * at;
+        if (transfer) transfer_energy(s, i, j, k) = 0.5 * 0.125 * dt * dt * square - mean2;
       });
 }
 

@@ -29,7 +29,7 @@ KOKKOS_INLINE_FUNCTION Mat3 deformation_increment(const Mat3& L, double dt) {
 }
 
 /// What MPMICE's g2p adds to a particle's heat besides the nodes' rate (E35): the
-/// transfer's energy `node_energy` (transfer_energy_to_nodes) and the gas pressure's work
+/// transfer's energy from `node_energy` (cell_rates_to_nodes) and the gas pressure's work
 /// on the particle's volume; `cv` the material's c_v, J/kg/K. Empty for MPM alone.
 struct TransferHeat {
   ConstField4 node_energy;
@@ -58,7 +58,7 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = nodes.at(wt.first), middle = nodes.middle(first);
-    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0, qs = 0;
+    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0, qs = 0, a2s = 0;
     Mat3 L = Mat3::zero();
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
@@ -73,7 +73,9 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
           for (int d = 0; d < 3; ++d) {
             const double v = v_node[d](o);
             vs[d] += S * v;
-            as[d] += S * a_node[d](o);
+            const double an = a_node[d](o);
+            as[d] += S * an;
+            if constexpr (Transfer) a2s += S * an * an;
             for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
           }
         });
@@ -86,16 +88,17 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
     }
     double& T = data(p, column(ParticleField::temperature));
     if constexpr (Transfer) {
-      // The transfer's heat (transfer_energy_to_nodes) and the work of (E24)'s
-      // isotropic part pp - q on the particle's volume, V (pp - q) tr(L) dt, which is
-      // neither strain energy nor received by a fluid (the equilibration hands the
-      // volume over at fixed temperature). With the nodes' rate, at most half of c_v T
+      // The transfers' heat (cell_rates_to_nodes: q_i; |D_i|^2 from the accelerations
+      // here) and the work of (E24)'s isotropic part pp - q on the particle's volume,
+      // V (pp - q) tr(L) dt, which is neither strain energy nor received by a fluid (the
+      // equilibration hands the volume over at fixed temperature). With the nodes' rate, at most half of c_v T
       // leaves in one step: a trace particle on nodes where the internal force and the
       // exchange nearly cancel can owe more than it holds.
       const double increment2 = dt * dt * (as[0] * as[0] + as[1] * as[1] + as[2] * as[2]);
+      const double owed = qs + dt * dt * a2s - 0.5 * increment2;
       const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
       const double gauge_work = data(p, column(ParticleField::volume)) * iso * L.trace() * dt;
-      double dT = dt * ts + (qs - 0.5 * increment2 + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
+      double dT = dt * ts + (owed + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
       T += dT < -0.5 * T ? -0.5 * T : dT;
     } else {
       T += dt * ts;

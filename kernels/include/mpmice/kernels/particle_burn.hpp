@@ -29,20 +29,21 @@ struct ProductSources {
 /// (E46) on the particles of the reactant `burn.reactant`: with M_c the mass of its
 /// particles in cell c and dm_c = `burn_dm`(reactant, c), every particle in c loses the
 /// fraction f = min(dm_c / M_c, 1) of its mass, and its volume in proportion (f within
-/// 1e-12 of 1 is 1: the particle burns out, mass exactly 0). The product gains, in c, the lost mass m_l, its
-/// momentum m_l v_p and energy m_l (c_v,s T_p + dh + |v_p|^2 / 2) + (m_l / m_p) W_p,
-/// added into `src` (zeroed by the caller): all the energy the burned solid had,
-/// thermal, chemical, kinetic and the strain energy W_p it stored (`model`). The
-/// product's own kinetic energy comes from the momentum; what the burned solid brought
-/// beyond it is heat (add_product_sources). `cell_mass` is scratch of the patch's cell extent. A particle's cell
-/// is `grid.cell` (from the grid's origin, the same on every decomposition). Returns the mass the
+/// 1e-12 of 1 is 1: the particle burns out, mass exactly 0). The product gains, in c,
+/// the lost mass m_l, its momentum m_l v_p and energy
+/// m_l (c_v,s T_p + dh + |v_p|^2 / 2) + (m_l / m_p) W_p, added into `src` (zeroed by the
+/// caller): all the energy the burned solid had, thermal, chemical, kinetic and the
+/// strain energy W_p it stored (`model`). The product's own kinetic energy comes from
+/// the momentum; what the burned solid brought beyond it is heat (add_product_sources).
+/// `cell_mass` is scratch of the patch's cell extent. A particle's cell is `grid.cell`
+/// (from the grid's origin, the same on every decomposition). Returns the mass the
 /// particles lost on this rank (kg; times dh: the heat of reaction released).
 /// With quanta `q` (quanta.hpp) every sum is independent of the particles' order: the
 /// particle masses must then be multiples of q.mass, and the lost mass is rounded to it,
 /// so a particle still loses exactly what its cell's product gains.
 inline double burn_particles(const NodeGrid& grid, long count, const ParticleData& data, double reactant_cv,
-                             const SolidModel& model, const SimpleBurn& burn, const ConstField4& burn_dm, const Field3& cell_mass,
-                             const ProductSources& src, const SumQuanta& q = SumQuanta()) {
+                             const SolidModel& model, const SimpleBurn& burn, const ConstField4& burn_dm,
+                             const Field3& cell_mass, const ProductSources& src, const SumQuanta& q = SumQuanta()) {
   if (count == 0) return 0.0;
   const SimpleBurn b = burn;
   const ProductSources out = src;
