@@ -1,5 +1,6 @@
 // Particle kernels of the MPM half, 1e4 .. 4e6 particles, 8 per cell (2 x 2 x 2),
-// sorted by cell. Bytes per particle (the least a structure-of-arrays kernel moves;
+// sorted by cell. p2g and internal_force round their contributions to quanta as the
+// driver does (quanta.hpp; `driver_quanta` below). Bytes per particle (the least a structure-of-arrays kernel moves;
 // node fields are few and stay in cache, so they are not counted):
 //  p2g:            reads x (3), size (3), mass, volume, v (3), T, f_ext (3) -> 15 x 8 = 120
 //  internal_force: reads x (3), size (3), volume, stress (9), gas pressure,
@@ -13,6 +14,7 @@
 #include <mpmice/kernels/g2p.hpp>
 #include <mpmice/kernels/internal_force.hpp>
 #include <mpmice/kernels/p2g.hpp>
+#include <mpmice/kernels/particle_totals.hpp>
 #include <mpmice/kernels/stress_update.hpp>
 
 #include "bench_setup.hpp"
@@ -35,6 +37,25 @@ void report(benchmark::State& state, long items, double bytes_per_item) {
   state.counters["bytes_per_item"] = bytes_per_item;
 }
 
+// The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp): 2^-40 of the
+// largest contribution of each kind, the mass's from the heaviest particle.
+SumQuanta driver_quanta(const NodeGrid& grid, long count, const ParticleData& data) {
+  const SumQuanta bound = particle_scatter_bounds(count, data);
+  double heaviest = 0;
+  Kokkos::parallel_reduce(
+      "heaviest", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(long p, double& mx) { mx = std::max(mx, data(p, column(ParticleField::mass))); },
+      Kokkos::Max<double>(heaviest));
+  SumQuanta q;
+  q.mass = quantum_for(heaviest);
+  q.momentum = quantum_for(bound.momentum);
+  q.heat = quantum_for(bound.heat);
+  q.volume = quantum_for(bound.volume);
+  q.external_force = quantum_for(bound.external_force);
+  q.internal_force = quantum_for(internal_force_bound(grid, count, data));
+  return q;
+}
+
 NodeSums node_sums(const Patch& p) {
   auto node = [&](const char* name) { return make_field(name, p, Location::node, 1); };
   return NodeSums{node("m"), {node("px"), node("py"), node("pz")}, node("mT"), node("V"),
@@ -48,7 +69,9 @@ void BM_p2g(benchmark::State& state) {
   const NodeGrid grid = node_grid(p);
   const ParticleSet ps = particles_in(p, n, 1);
   const NodeSums sums = node_sums(p);
-  for (auto _ : state) state.SetIterationTime(timed([&] { p2g<Shape>(grid, n, ps.data(), 0, sums); }));
+  const SumQuanta q = driver_quanta(grid, n, ps.data());
+  ScatterScratch scratch;  // kept between steps, as the driver keeps it
+  for (auto _ : state) state.SetIterationTime(timed([&] { p2g<Shape>(grid, n, ps.data(), 0, sums, q, scratch); }));
   report(state, n, 120.0);
 }
 
@@ -59,7 +82,10 @@ void BM_internal_force(benchmark::State& state) {
   const NodeGrid grid = node_grid(p);
   const ParticleSet ps = particles_in(p, n, 2);
   const NodeSums sums = node_sums(p);
-  for (auto _ : state) state.SetIterationTime(timed([&] { internal_force<Shape>(grid, n, ps.data(), 0, sums.fext); }));
+  const SumQuanta q = driver_quanta(grid, n, ps.data());
+  ScatterScratch scratch;
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { internal_force<Shape>(grid, n, ps.data(), 0, sums.fext, q, scratch); }));
   report(state, n, 144.0);
 }
 

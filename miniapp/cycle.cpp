@@ -268,7 +268,9 @@ void Cycle::add_particle_to_grid_steps() {
         for (int s = 0; s < ns; ++s) {
           const ParticleSet& ps = m_pb.particles[s];
           const SumQuanta q = scatter_quanta(s);
-          with_shape(gimp, [&](auto shape) { p2g<decltype(shape)>(grid, long(ps.size()), ps.data(), s, sums, q); });
+          with_shape(gimp, [&](auto shape) {
+            p2g<decltype(shape)>(grid, long(ps.size()), ps.data(), s, sums, q, m_p2g_scatter);
+          });
         }
       }});
   m_steps.push_back(Step{
@@ -548,7 +550,8 @@ void Cycle::add_force_steps() {
                              q.internal_force = quantum_for(global_max(
                                  m_pb.decomposition->comm(), internal_force_bound(grid, long(ps.size()), ps.data())));
                              with_shape(gimp, [&](auto shape) {
-                               internal_force<decltype(shape)>(grid, long(ps.size()), ps.data(), s, fint, q);
+                               internal_force<decltype(shape)>(grid, long(ps.size()), ps.data(), s, fint, q,
+                                                             m_force_scatter);
                              });
                            }
                          }});

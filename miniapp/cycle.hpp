@@ -7,6 +7,7 @@
 
 #include <mpmice/halo/steps.hpp>
 #include <mpmice/kernels/advection.hpp>
+#include <mpmice/kernels/node_scatter.hpp>
 #include <mpmice/kernels/quanta.hpp>
 
 #include "problem.hpp"
@@ -63,6 +64,7 @@ class Cycle {
   Field4 m_adv_mass, m_adv_q, m_ke;
   FaceFluxes m_face_flux;  // scratch of advection_change
   Field3 m_burn_cell_mass;  // burn_particles' scratch: the reactant's particle mass per cell
+  ScatterScratch m_p2g_scatter, m_force_scatter;  // the copies p2g and internal_force add into
 };
 
 }  // namespace mpmice

@@ -19,15 +19,14 @@ namespace mpmice {
 /// got; the sum is then exactly zero. Without it a burning particle of a trace of its
 /// mass, whose far nodes are skipped, pushed itself and the grid: a whole burn of
 /// problems/burn_box.yaml made z-momentum of 1.8e-7 of sqrt(M E) from nothing.
+/// `scratch` holds the scatter's copies between calls.
 template <class Shape>
 void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
-                    const VectorField4& fint, const SumQuanta& q = SumQuanta()) {
+                    const VectorField4& fint, const SumQuanta& q, ScatterScratch& scratch) {
   constexpr int n = Shape::nodes;
   const Quantum quantum(q.internal_force), mass_quantum(q.mass);
-  const Kokkos::Array<Field4, 3> dest = {fint[0], fint[1], fint[2]};
-  const NodeBlock block = node_block("mpmice::internal_force", fint[0], 3);
   const NodeStencil<n> rows = block_stencil<n>(fint[0]);
-  const NodeScatter scatter(block);
+  const NodeScatter& scatter = scratch.zeroed("mpmice::internal_force", fint[0], 3);
   scatter_from_particles("mpmice::internal_force", count, KOKKOS_LAMBDA(long p) {
     double x[3], half[3];
     particle_position(data, p, x, half);
@@ -63,7 +62,15 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
     if (heaviest_row >= 0)
       for (int d = 0; d < 3; ++d) node(heaviest_row, d) += given[d];
   });
-  unpack_block<3>(block, scatter, dest, m, {0, 0, 0});
+  add_scatter_into<3>(scatter, {fint[0], fint[1], fint[2]}, m, {0, 0, 0});
+}
+
+/// The same with copies of its own.
+template <class Shape>
+void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
+                    const VectorField4& fint, const SumQuanta& q = SumQuanta()) {
+  ScatterScratch scratch;
+  internal_force<Shape>(grid, count, data, m, fint, q, scratch);
 }
 
 /// A bound on any one contribution of `internal_force`: max_p V_p |sigma_p + (pp_p - q_p)

@@ -55,6 +55,12 @@ MPMICE_FLATTEN void serial_run(const F& f, long lo, long hi) {
   for (long p = lo; p < hi; ++p) f(p);
 }
 
+/// f(lo, hi), flattened: a run of `scatter_from_particle_runs`.
+template <class F>
+MPMICE_FLATTEN void flat_run(const F& f, long lo, long hi) {
+  f(lo, hi);
+}
+
 /// One run of `reduce_over_index` or `reduce_over_particles`. It works on its own copy
 /// of the body: with the `omp simd` reduction, GCC did not hoist the views' addresses
 /// out of the loop when the body reads them through a reference and also stores to a view.
@@ -185,6 +191,20 @@ void scatter_from_particles(const std::string& label, long count, const F& f) {
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::serial_run(f, lo, hi); });
+#endif
+}
+
+/// Runs f(lo, hi) over runs of consecutive particles [lo, hi) covering 0 .. count - 1,
+/// in parallel, for scatters that add a run's particles together before adding into
+/// shared sums (p2g: neighbours in a sorted set share their nodes). On the host a run
+/// is `detail::particle_run` particles, its body flattened (as `scatter_from_particles`);
+/// on a GPU one particle.
+template <class F>
+void scatter_from_particle_runs(const std::string& label, long count, const F& f) {
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) { f(p, p + 1); });
+#else
+  detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::flat_run(f, lo, hi); });
 #endif
 }
 

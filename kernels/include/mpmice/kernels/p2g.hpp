@@ -3,14 +3,9 @@
 /// \brief Step 1: particle-to-grid of mass, momentum, m T, volume and external force
 ///        (E12), and the node velocity and temperature from them.
 ///
-/// The scatter: Kokkos ScatterView (duplicated per thread on OpenMP, atomic on GPUs)
-/// is the one way particles add into nodes (`NodeScatter` below); bench_scatter.cpp
-/// measures it against the alternatives.
-#include <string>
-
-#include <Kokkos_ScatterView.hpp>
-
+/// Particles add into the nodes through a NodeScatter (node_scatter.hpp).
 #include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/node_scatter.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/quanta.hpp>
 #include <mpmice/kernels/shape.hpp>
@@ -26,87 +21,150 @@ struct NodeSums {
   VectorField4 fext;///< sum S f_ext,p, N
 };
 
-/// The sums of one particle loop: a row per node of the patch, (i, j, k) at row
-/// (i n_j + j) n_k + k (`block_stencil`), with the node's F fields side by side. A
-/// particle finds a node's row once for all its fields; the block is unpacked into the
-/// fields after the loop.
-using NodeBlock = Kokkos::View<double**, Kokkos::LayoutRight, MemSpace>;
-
-/// The one scatter: a particle loop adds into a NodeBlock through it. On OpenMP each
-/// thread adds into its own copy, summed after the loop (docs/performance.md).
-using NodeScatter = Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace>;
-
-/// A zeroed block of `fields` fields over the nodes of the node field `like`.
-inline NodeBlock node_block(const char* label, const ConstField4& like, int fields) {
-  return NodeBlock(std::string(label), like.extent(1) * like.extent(2) * like.extent(3), std::size_t(fields));
+namespace detail {
+/// What particle p gives its nodes, times their weight (E12): mass, momentum (3), m T,
+/// volume, external force (3).
+constexpr int p2g_fields = 9;
+KOKKOS_FORCEINLINE_FUNCTION void p2g_values(const ParticleData& data, long p, double* value) {
+  const double mp = data(p, column(ParticleField::mass));
+  value[0] = mp;
+  value[1] = mp * data(p, column(ParticleField::vx));
+  value[2] = mp * data(p, column(ParticleField::vy));
+  value[3] = mp * data(p, column(ParticleField::vz));
+  value[4] = mp * data(p, column(ParticleField::temperature));
+  value[5] = data(p, column(ParticleField::volume));
+  value[6] = data(p, column(ParticleField::fext_x));
+  value[7] = data(p, column(ParticleField::fext_y));
+  value[8] = data(p, column(ParticleField::fext_z));
 }
 
-/// Where a particle's nodes are in a NodeBlock over the nodes of `like`.
-template <int Nodes>
-NodeStencil<Nodes> block_stencil(const ConstField4& like) {
-  return NodeStencil<Nodes>(0, long(like.extent(2) * like.extent(3)), long(like.extent(3)), 1);
+/// The quantum of each of p2g_values.
+inline Kokkos::Array<Quantum, p2g_fields> p2g_quanta(const SumQuanta& q) {
+  return {q.mass, q.momentum, q.momentum, q.momentum, q.heat, q.volume, q.external_force, q.external_force,
+          q.external_force};
 }
 
-/// Add what the scatter gathered into `block`, then dest[f](m, .) = start[f] + block(., f).
-template <int F>
-void unpack_block(NodeBlock block, const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
-                  const Kokkos::Array<double, F>& start) {
-  Kokkos::Experimental::contribute(block, scatter);
-  const IndexBox nodes{{0, 0, 0}, {int(dest[0].extent(1)), int(dest[0].extent(2)), int(dest[0].extent(3))}};
-  const long nj = nodes.hi[1], nk = nodes.hi[2];
-  for_each_index("mpmice::unpack_block", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
-    const long row = (i * nj + j) * nk + k;
-    for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + block(row, f);
+/// p2g's scatter for shapes whose nodes differ between particles of one cell (GIMP):
+/// particle by particle, node by node. A node whose share of the mass rounds to zero
+/// gets nothing at all, so that no node has momentum or force without mass
+/// (internal_force skips it too).
+template <class Shape>
+void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
+                       const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
+  constexpr int n = Shape::nodes, F = p2g_fields;
+  scatter_from_particles("mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
+    double x[3], half[3], value[F];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const long first = rows.at(wt.first);
+    p2g_values(data, p, value);
+    auto node = scatter.access();
+    unrolled_for<n>([&](int a) {
+      unrolled_for<n>([&](int b) {
+        unrolled_for<n>([&](int c) {
+          const double S = wt.weight(a, b, c);
+          if (quantum[0].round(S * value[0]) == 0.0) return;
+          const long row = first + rows.step(a, b, c);
+          for (int f = 0; f < F; ++f) node(row, f) += quantum[f].round(S * value[f]);
+        });
+      });
+    });
   });
 }
+
+/// The weight of node i = (a n + b) n + c (n = 2) of a particle with the linear shape,
+/// as ParticleWeights::weight forms it, for a vector loop over i: selects on i's bits as
+/// doubles and no arrays (node weights stored before the loop cost a failed store
+/// forward per vector load; with a bool or a local array GCC 12 did not vectorise).
+template <class Shape>
+KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shape>& wt, int i) {
+  static_assert(Shape::nodes == 2, "the linear shape's 2 x 2 x 2 nodes");
+  const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
+  const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0];
+  const double wb = b != 0.0 ? wt.w[1][1] : wt.w[1][0];
+  const double wc = c != 0.0 ? wt.w[2][1] : wt.w[2][0];
+  return wa * wb * wc;
+}
+
+/// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
+/// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
+/// particles' contributions in registers, vectorised over its 8 nodes, and adds the
+/// sums into the scatter once per node (8 particles per cell: 1/8 of the adds). A node
+/// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
+/// sums' order differs from p2g_each_particle's: without quanta a node's value changes
+/// at round-off; with quanta, as in the driver, not at all.
+template <class Shape>
+void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
+                   const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
+  constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
+  scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
+    auto node = scatter.access();
+    double sum[F][N];
+    long run_first = -1;
+    // Adds the run's sums into its nodes (those that got mass) and zeroes them.
+    const auto add_run = [&]() {
+      unrolled_for<N>([&](int a) {
+        if (run_first >= 0 && sum[0][a] != 0.0) {
+          const long row = run_first + rows.steps[a];
+          for (int f = 0; f < F; ++f) node(row, f) += sum[f][a];
+        }
+      });
+      for (int f = 0; f < F; ++f)
+        for (int a = 0; a < N; ++a) sum[f][a] = 0.0;
+    };
+    add_run();
+    for (long p = lo; p < hi; ++p) {
+      double x[3], half[3], value[F];
+      particle_position(data, p, x, half);
+      const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+      const long first = rows.at(wt.first);
+      if (first != run_first) {
+        add_run();
+        run_first = first;
+      }
+      p2g_values(data, p, value);
+      // A vector loop over the nodes, without branches (round_without_branch), and a
+      // double, not a bool, choosing the kept nodes: either kept GCC 12 from
+      // vectorising it (docs/design.md, "Particle loops").
+      MPMICE_PRAGMA_SIMD
+      for (int a = 0; a < N; ++a) {
+        const double S = linear_node_weight(wt, a);
+        const double kept = quantum[0].round_without_branch(S * value[0]) != 0.0 ? S : 0.0;
+        unrolled_for<F>([&](int f) { sum[f][a] += quantum[f].round_without_branch(kept * value[f]); });
+      }
+    }
+    add_run();
+  });
+}
+}  // namespace detail
 
 /// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
 /// call first resets over the whole patch, ghost nodes included). With quanta `q` each
 /// contribution is rounded to them (quanta.hpp: sums independent of their order).
+/// `scratch` holds the scatter's copies between calls.
+template <class Shape>
+void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
+         const SumQuanta& q, ScatterScratch& scratch) {
+  constexpr int F = detail::p2g_fields;
+  const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, F);
+  const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
+  if constexpr (Shape::nodes == 2)
+    detail::p2g_cell_runs<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
+  else
+    detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
+  // Mass and volume start at 1e-200 so that no node divides by zero.
+  add_scatter_into<F>(scatter,
+                      {sums.mass, sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.volume, sums.fext[0],
+                       sums.fext[1], sums.fext[2]},
+                      m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
+}
+
+/// The same with copies of its own.
 template <class Shape>
 void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
          const SumQuanta& q = SumQuanta()) {
-  constexpr int n = Shape::nodes, F = 9;
-  // Fields: mass, momentum (3), m T, volume, external force (3); mass and volume start
-  // at 1e-200 so that no node divides by zero.
-  const Kokkos::Array<Field4, F> dest = {sums.mass,    sums.mom[0], sums.mom[1], sums.mom[2], sums.heat,
-                                         sums.volume,  sums.fext[0], sums.fext[1], sums.fext[2]};
-  const Kokkos::Array<Quantum, F> quantum = {q.mass,   q.momentum, q.momentum,       q.momentum,       q.heat,
-                                            q.volume, q.external_force, q.external_force, q.external_force};
-  const NodeBlock block = node_block("mpmice::p2g", sums.mass, F);
-  const NodeStencil<n> rows = block_stencil<n>(sums.mass);
-  const NodeScatter scatter(block);
-  scatter_from_particles(
-      "mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
-        double x[3], half[3];
-        particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-        const long first = rows.at(wt.first);
-        const double mp = data(p, column(ParticleField::mass));
-        const double value[F] = {mp,
-                                 mp * data(p, column(ParticleField::vx)),
-                                 mp * data(p, column(ParticleField::vy)),
-                                 mp * data(p, column(ParticleField::vz)),
-                                 mp * data(p, column(ParticleField::temperature)),
-                                 data(p, column(ParticleField::volume)),
-                                 data(p, column(ParticleField::fext_x)),
-                                 data(p, column(ParticleField::fext_y)),
-                                 data(p, column(ParticleField::fext_z))};
-        auto node = scatter.access();
-        unrolled_for<n>([&](int a) {
-          unrolled_for<n>([&](int b) {
-            unrolled_for<n>([&](int c) {
-              const double S = wt.weight(a, b, c);
-              // A node whose share of the mass rounds to zero gets nothing at all, so
-              // that no node has momentum or force without mass (internal_force skips it too).
-              if (quantum[0].round(S * mp) == 0.0) return;
-              const long row = first + rows.step(a, b, c);
-              for (int f = 0; f < F; ++f) node(row, f) += quantum[f].round(S * value[f]);
-            });
-          });
-        });
-      });
-  unpack_block<F>(block, scatter, dest, m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
+  ScatterScratch scratch;
+  p2g<Shape>(grid, count, data, m, sums, q, scratch);
 }
 
 /// Node velocity v = sum S m v / m and temperature T = sum S m T / m (E12) on `nodes`.
