@@ -126,6 +126,7 @@ void particle_counts(benchmark::internal::Benchmark* b) {
 BENCHMARK_TEMPLATE(BM_p2g, LinearShape)->Apply(particle_counts)->UseManualTime();
 BENCHMARK_TEMPLATE(BM_p2g, GimpShape)->Apply(particle_counts)->UseManualTime();
 BENCHMARK_TEMPLATE(BM_internal_force, LinearShape)->Apply(particle_counts)->UseManualTime();
+BENCHMARK_TEMPLATE(BM_internal_force, GimpShape)->Apply(particle_counts)->UseManualTime();
 BENCHMARK_TEMPLATE(BM_g2p, LinearShape)->Apply(particle_counts)->UseManualTime();
 BENCHMARK_TEMPLATE(BM_g2p, GimpShape)->Apply(particle_counts)->UseManualTime();
 BENCHMARK(BM_stress_update)
