@@ -70,7 +70,10 @@ void BM_p2g(benchmark::State& state) {
   const ParticleSet ps = particles_in(p, n, 1);
   const NodeSums sums = node_sums(p);
   const SumQuanta q = driver_quanta(grid, n, ps.data());
-  ScatterScratch scratch;  // kept between steps, as the driver keeps it
+  // The scratch is kept between steps, as the driver keeps it: a first, untimed call
+  // allocates it (and faults its pages in), which a run pays once, not every step.
+  ScatterScratch scratch;
+  p2g<Shape>(grid, n, ps.data(), 0, sums, q, scratch);
   for (auto _ : state) state.SetIterationTime(timed([&] { p2g<Shape>(grid, n, ps.data(), 0, sums, q, scratch); }));
   report(state, n, 120.0);
 }
@@ -83,7 +86,8 @@ void BM_internal_force(benchmark::State& state) {
   const ParticleSet ps = particles_in(p, n, 2);
   const NodeSums sums = node_sums(p);
   const SumQuanta q = driver_quanta(grid, n, ps.data());
-  ScatterScratch scratch;
+  ScatterScratch scratch;  // kept between steps, as in BM_p2g
+  internal_force<Shape>(grid, n, ps.data(), 0, sums.fext, q, scratch);
   for (auto _ : state)
     state.SetIterationTime(timed([&] { internal_force<Shape>(grid, n, ps.data(), 0, sums.fext, q, scratch); }));
   report(state, n, 144.0);
