@@ -40,20 +40,13 @@ void report(benchmark::State& state, long items, double bytes_per_item) {
 // The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp): 2^-40 of the
 // largest contribution of each kind, the mass's from the heaviest particle.
 SumQuanta driver_quanta(const NodeGrid& grid, long count, const ParticleData& data) {
-  const SumQuanta bound = particle_scatter_bounds(count, data);
-  double heaviest = 0;
+  SumQuanta bound = particle_scatter_bounds(count, data);
   Kokkos::parallel_reduce(
       "heaviest", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(long p, double& mx) { mx = std::max(mx, data(p, column(ParticleField::mass))); },
-      Kokkos::Max<double>(heaviest));
-  SumQuanta q;
-  q.mass = quantum_for(heaviest);
-  q.momentum = quantum_for(bound.momentum);
-  q.heat = quantum_for(bound.heat);
-  q.volume = quantum_for(bound.volume);
-  q.external_force = quantum_for(bound.external_force);
-  q.internal_force = quantum_for(internal_force_bound(grid, count, data));
-  return q;
+      Kokkos::Max<double>(bound.mass));
+  bound.internal_force = internal_force_bound(grid, count, data);
+  return quanta_for(bound);
 }
 
 NodeSums node_sums(const Patch& p) {

@@ -207,12 +207,13 @@ SumQuanta Cycle::scatter_quanta(int s) const {
   const SumQuanta bound = particle_scatter_bounds(long(ps.size()), ps.data());
   std::vector<double> largest{bound.momentum, bound.heat, bound.volume, bound.external_force};
   global_max(comm, largest);  // one allreduce for the four
-  SumQuanta q;
+  SumQuanta global;
+  global.momentum = largest[0];
+  global.heat = largest[1];
+  global.volume = largest[2];
+  global.external_force = largest[3];
+  SumQuanta q = quanta_for(global);
   q.mass = m_mass_quantum[s];
-  q.momentum = quantum_for(largest[0]);
-  q.heat = quantum_for(largest[1]);
-  q.volume = quantum_for(largest[2]);
-  q.external_force = quantum_for(largest[3]);
   return q;
 }
 

@@ -286,13 +286,8 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
     h(p, column(ParticleField::volume)) = 1e-4 * (0.5 + u(rng));
   }
   Kokkos::deep_copy(ps.data(), h);
-  const SumQuanta bound = particle_scatter_bounds(n, ps.data());
-  SumQuanta q;
+  SumQuanta q = quanta_for(particle_scatter_bounds(n, ps.data()));
   q.mass = quantum_for(1.5);
-  q.momentum = quantum_for(bound.momentum);
-  q.heat = quantum_for(bound.heat);
-  q.volume = quantum_for(bound.volume);
-  q.external_force = quantum_for(bound.external_force);
 
   const NodeSums runs = node_sums(patch), each = node_sums(patch);
   p2g<LinearShape>(grid, n, ps.data(), 0, runs, q);

@@ -91,9 +91,9 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
       // The transfers' heat (cell_rates_to_nodes: q_i; |D_i|^2 from the accelerations
       // here) and the work of (E24)'s isotropic part pp - q on the particle's volume,
       // V (pp - q) tr(L) dt, which is neither strain energy nor received by a fluid (the
-      // equilibration hands the volume over at fixed temperature). With the nodes' rate, at most half of c_v T
-      // leaves in one step: a trace particle on nodes where the internal force and the
-      // exchange nearly cancel can owe more than it holds.
+      // equilibration hands the volume over at fixed temperature). With the nodes' rate,
+      // at most half of c_v T leaves in one step: a trace particle on nodes where the
+      // internal force and the exchange nearly cancel can owe more than it holds.
       const double increment2 = dt * dt * (as[0] * as[0] + as[1] * as[1] + as[2] * as[2]);
       const double owed = qs + dt * dt * a2s - 0.5 * increment2;
       const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));

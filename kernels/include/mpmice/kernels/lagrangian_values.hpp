@@ -67,9 +67,10 @@ inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTabl
 /// grows by |m u^n + dP|^2 / (2 (m + dm)) - m |u^n|^2 / 2 as it takes the momentum, and
 /// the rest of dE_r (at least its internal part, by Cauchy-Schwarz) is internal energy:
 /// the burned solid merges with the gas inelastically, and the kinetic energy of their
-/// relative motion becomes heat. (Without it a whole burn of problems/burn_box.yaml lost 13% of its
-/// initial energy at cfl 0.4 and 37% at cfl 0.1: the burning particles' velocities
-/// differ within a cell, and their spread was lost; docs/design.md, "Reactions".)
+/// relative motion becomes heat. (Without it a whole burn of problems/burn_box.yaml
+/// lost 13% of its initial energy at cfl 0.4 and 37% at cfl 0.1: the burning particles'
+/// velocities differ within a cell, and their spread was lost; docs/design.md,
+/// "Reactions".)
 /// Also writes `temp_mixed`: T^n, or where a material gained mass, the temperature of
 /// the old gas mixed with the new, (m c_v T^n + dE_int)/((m + dm) c_v). The exchange's Tdot
 /// and (E32)'s alpha start from it: the new gas's volume is already counted

@@ -99,7 +99,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
-    double sum[F][N];
+    double sum[F][N] = {};
     long run_first = -1;
     // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&]() {
@@ -112,7 +112,6 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       for (int f = 0; f < F; ++f)
         for (int a = 0; a < N; ++a) sum[f][a] = 0.0;
     };
-    add_run();
     for (long p = lo; p < hi; ++p) {
       double x[3], half[3], value[F];
       particle_position(data, p, x, half);

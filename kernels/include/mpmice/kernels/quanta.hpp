@@ -56,4 +56,19 @@ inline double quantum_for(double bound) {
   return std::ldexp(1.0, std::ilogb(bound) - 40);
 }
 
+/// The quanta of contributions bounded by `largest` (each kind's largest contribution,
+/// e.g. particle_scatter_bounds after a global max): quantum_for of each, 0 where the
+/// bound is 0.
+inline SumQuanta quanta_for(const SumQuanta& largest) {
+  SumQuanta q;
+  q.mass = quantum_for(largest.mass);
+  q.momentum = quantum_for(largest.momentum);
+  q.heat = quantum_for(largest.heat);
+  q.volume = quantum_for(largest.volume);
+  q.external_force = quantum_for(largest.external_force);
+  q.internal_force = quantum_for(largest.internal_force);
+  q.energy = quantum_for(largest.energy);
+  return q;
+}
+
 }  // namespace mpmice
