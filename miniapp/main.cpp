@@ -11,6 +11,13 @@
 #include "cli.hpp"
 
 int main(int argc, char* argv[]) {
+  // Open MPI's MPI-IO opens every file with its shared-file-pointer component `sm`,
+  // which guards the file with a POSIX semaphore named after the file's base name
+  // (/dev/shm/sem.OMPIO_checkpoint_000087.h5.tmp). A run killed while writing leaves
+  // it taken, and a restart that writes the same checkpoint again waits on it forever.
+  // The run never uses a shared file pointer; the other components (no semaphore) are
+  // kept. A user's own choice stands; other MPIs ignore the variable.
+  setenv("OMPI_MCA_sharedfp", "^sm", /*overwrite=*/0);
   MPI_Init(&argc, &argv);
   // The OpenMP runtime has read its environment already; an unset OMP_PROC_BIND
   // means no binding. Saying so explicitly keeps Kokkos from warning about it on

@@ -3,8 +3,15 @@ checkpoint that restarts; a checkpoint from another input is refused (exit 2).
 
 Usage: /usr/bin/python3 check_kill.py MPMICE PROBLEM.yaml OTHER_PROBLEM.yaml WORK_DIR
 PROBLEM runs with a checkpoint after every step and is killed at 6 random moments;
-after each kill `--restart latest` must run two more steps and exit 0. Then OTHER
-(a different grid) restarted from PROBLEM's checkpoint must exit 2 naming the grid."""
+after each kill `--restart latest` must run two more steps and exit 0, within a
+time limit. Then OTHER (a different grid) restarted from PROBLEM's checkpoint must
+exit 2 naming the grid.
+
+Before each restart the test also leaves, taken, the POSIX semaphore that Open MPI's
+`sm` shared-file-pointer component would have left had the kill come while it held
+it, named after the checkpoint the restart writes first: with that component in use
+the restart would wait on it forever (found as an occasional hang of this test)."""
+import _multiprocessing
 import os
 import random
 import shutil
@@ -37,8 +44,18 @@ def main():
         if not ckpts:
             sys.exit("FAIL: no complete checkpoint after kill %d" % trial)
         step = int(ckpts[-1][len("checkpoint_"):-3])
-        r = subprocess.run([exe] + common + ["--restart", "latest", "--max-steps", str(step + 2)],
-                           capture_output=True, text=True)
+        semaphore = "/OMPIO_checkpoint_%06d.h5.tmp" % (step + 1)  # Open MPI 4.1's name for it
+        try:
+            _multiprocessing.SemLock(1, 0, 1, semaphore, False)  # a semaphore, value 0 (taken), kept
+        except FileExistsError:
+            pass  # left by an earlier kill
+        try:
+            r = subprocess.run([exe] + common + ["--restart", "latest", "--max-steps", str(step + 2)],
+                               capture_output=True, text=True, timeout=300)
+        except subprocess.TimeoutExpired:
+            sys.exit("FAIL: restart from %s after kill %d still running after 300 s" % (ckpts[-1], trial))
+        finally:
+            _multiprocessing.sem_unlink(semaphore)
         if r.returncode != 0:
             sys.exit("FAIL: restart from %s after kill %d exited %d:\n%s" % (ckpts[-1], trial, r.returncode, r.stderr))
         print("kill %d: restarted from %s" % (trial, ckpts[-1]))
