@@ -164,6 +164,7 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
     m_adv_mass = make_field("advected_mass", p, Location::cell, pb.material_count());
     m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
     m_face_flux = make_face_fluxes("advection_face_flux", p);
+    if (pb.input.ice.second_order) m_outflux = make_cell_outfluxes("advection_outflux", p);
     m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
   }
   for (int s = 0; s < pb.solid_count(); ++s) {
@@ -447,7 +448,8 @@ void Cycle::add_pressure_steps() {
         }
         for (int m = 0; m < n; ++m) {
           if (second_order) limited_gradient(p.ghosted_cells(1), h, theta, m, ConstField4(), GradientField(), m_grad);
-          face_fluxes(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), m_face_flux);
+          face_fluxes(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), m_face_flux,
+                      m_outflux);
           flux_difference(owned, 1.0 / V, m_face_flux, m, adv);
           // The fluids' and the deforming solids' volume fluxes, for the pressure work's
           // heat (pressure_work_heat.hpp).
@@ -864,18 +866,18 @@ void Cycle::add_advection_steps() {
           }
           if (second_order) limited_gradient(around, h, mass, m, ConstField4(), GradientField(), m_mass_grad);
           advection_change(owned, h, dt, U, m, mass, ConstField4(), second_order, m_mass_grad,
-                           GradientField(), m_adv_mass, m_face_flux);
+                           GradientField(), m_adv_mass, m_outflux);
           advance_density(owned, V, m, mass, m_adv_mass, rho_new);
           for (int q = 0; q < 5; ++q) {
             if (second_order) limited_gradient(around, h, q_in[q], m, mass, m_mass_grad, m_grad);
             advection_change(owned, h, dt, U, m, q_in[q], mass, second_order, m_grad, m_mass_grad, m_adv_q,
-                             m_face_flux);
+                             m_outflux);
             advance_specific(owned, V, m, mass, q_in[q], m_adv_q, rho_new, q_out[q]);
           }
           if (ke_fix) {
             if (second_order) limited_gradient(around, h, m_ke, m, mass, m_mass_grad, m_grad);
             advection_change(owned, h, dt, U, m, m_ke, mass, second_order, m_grad, m_mass_grad, m_adv_q,
-                             m_face_flux);
+                             m_outflux);
             kinetic_energy_to_heat(owned, V, m, mats.eos[m].cv, mass, m_ke, m_adv_q, rho_new,
                                    ConstVectorField4{vel_new[0], vel_new[1], vel_new[2]}, q_out[3]);
           }

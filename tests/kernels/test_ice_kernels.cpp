@@ -1,8 +1,10 @@
 // Pointwise and per-cell ICE kernels against closed forms and conservation laws.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <mpmice/kernels/advection.hpp>
 #include <mpmice/kernels/equilibrate_pressure.hpp>
@@ -226,38 +228,63 @@ TEST(Advection, FaceFluxesAddUpToTheChange) {
   }
 }
 
+namespace {
+// A 6 x 7 x 9 patch of unequal cell sizes with random cell values around 1 (q, its
+// mass), random gradients and face velocities of both signs in every direction.
+struct RandomBox {
+  Patch p;
+  Field4 q, mass;
+  VectorField4 U;
+  GradientField grad, mass_grad;
+  Kokkos::Array<double, 3> h{1e-3, 2e-3, 1.5e-3};
+  double dt = 2e-6;
+
+  RandomBox() {
+    Grid g;
+    g.cells = {6, 7, 9};
+    g.spacing = {h[0], h[1], h[2]};
+    p = whole_grid_patch(g, 2);
+    std::mt19937 rng(11);
+    auto random_field = [&](Location where, double lo, double hi) {
+      std::uniform_real_distribution<double> value(lo, hi);
+      const Field4 f = make_field("f", p, where, 1);
+      auto fh = Kokkos::create_mirror_view(f);
+      for (size_t n = 0; n < fh.size(); ++n) fh.data()[n] = value(rng);
+      Kokkos::deep_copy(f, fh);
+      return f;
+    };
+    q = random_field(Location::cell, 0.5, 1.5);
+    mass = random_field(Location::cell, 0.5, 1.5);
+    const Location faces[3] = {Location::x_face, Location::y_face, Location::z_face};
+    for (int d = 0; d < 3; ++d) {
+      U[d] = random_field(faces[d], -40.0, 60.0);
+      // Gradients up to 100 /m: slab values within 10% of the cell's.
+      auto slot = [](const Field4& f) { return Kokkos::subview(f, 0, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL); };
+      grad[d] = slot(random_field(Location::cell, -100.0, 100.0));
+      mass_grad[d] = slot(random_field(Location::cell, -100.0, 100.0));
+    }
+  }
+  ConstVectorField4 velocities() const { return {U[0], U[1], U[2]}; }
+};
+}  // namespace
+
 // First order, advection_change makes the change in one pass, each cell computing its
-// six faces' fluxes itself: on a 3D patch with random values and face velocities of
-// both signs in every direction, it must equal flux_difference of face_fluxes, for cell
+// six faces' fluxes itself: it must equal flux_difference of face_fluxes, for cell
 // totals and for compatible (mass-weighted) values. The two differ only in rounding:
 // the one pass may fuse a flux's last product into the cell's sum (an FMA, half an ulp
 // of that flux) and adds six terms as the other does (an ulp of the partial sums at
 // most each), so |a - b| <= 8 eps sum|flux| / V; 2e-15 is 9 eps. A wrong face, sign or
 // donor changes a cell by a whole flux.
 TEST(Advection, FirstOrderInOnePassMatchesTheStoredFluxes) {
-  Grid g;
-  g.cells = {6, 7, 9};
-  g.spacing = {1e-3, 2e-3, 1.5e-3};
-  const Patch p = whole_grid_patch(g, 2);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> value(0.5, 1.5), speed(-40.0, 60.0);
-  auto random_field = [&](Location where) {
-    const Field4 f = make_field("f", p, where, 1);
-    auto h = Kokkos::create_mirror_view(f);
-    for (size_t n = 0; n < h.size(); ++n) h.data()[n] = where == Location::cell ? value(rng) : speed(rng);
-    Kokkos::deep_copy(f, h);
-    return f;
-  };
-  const Field4 q = random_field(Location::cell), mass = random_field(Location::cell);
-  const ConstVectorField4 U{random_field(Location::x_face), random_field(Location::y_face),
-                            random_field(Location::z_face)};
-  const Kokkos::Array<double, 3> h{g.spacing[0], g.spacing[1], g.spacing[2]};
-  const double dt = 1e-5;
-  for (const ConstField4& m : {ConstField4(), ConstField4(mass)}) {
+  const RandomBox box;
+  const Patch& p = box.p;
+  const Kokkos::Array<double, 3> h = box.h;
+  const ConstVectorField4 U = box.velocities();
+  for (const ConstField4& m : {ConstField4(), ConstField4(box.mass)}) {
     const Field4 one_pass = make_field("a", p, Location::cell, 1), two_pass = make_field("b", p, Location::cell, 1);
-    advection_change(p.owned_cells(), h, dt, U, 0, q, m, false, GradientField(), GradientField(), one_pass);
+    advection_change(p.owned_cells(), h, box.dt, U, 0, box.q, m, false, GradientField(), GradientField(), one_pass);
     const FaceFluxes flux = make_face_fluxes("flux", p);
-    face_fluxes(p.owned_cells(), h, dt, U, 0, q, m, false, GradientField(), GradientField(), flux);
+    face_fluxes(p.owned_cells(), h, box.dt, U, 0, box.q, m, false, GradientField(), GradientField(), flux);
     flux_difference(p.owned_cells(), 1.0 / (h[0] * h[1] * h[2]), flux, 0, two_pass);
     auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), one_pass);
     auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), two_pass);
@@ -276,6 +303,87 @@ TEST(Advection, FirstOrderInOnePassMatchesTheStoredFluxes) {
           nonzero += a(0, i, j, k) != 0;
         }
     EXPECT_EQ(nonzero, cells.size());  // random values and speeds: every cell changes
+  }
+}
+
+// Second order, against (E39), (E42) and (E43) written out here cell by cell: each
+// face's flux is its donor's slab (the cell the velocity leaves), its value at the
+// slab's centroid r, q_c + G . r (or, compatible, (m_c + G_m . r) q_c + m_c G . r),
+// times the slab's volume. advection_change (the cells' outfluxes) and flux_difference
+// of face_fluxes must both give it, and equal each other bit for bit (the same
+// outfluxes, the same differences). The reference associates differently: each of the
+// 12 terms carries at most ~10 roundings either way and the sum 12 more, so 1e-14
+// (45 eps) of the sum of |terms| / V bounds the difference; a wrong centroid, donor or
+// face is a whole term.
+TEST(Advection, SecondOrderMatchesTheSlabFormula) {
+  const RandomBox box;
+  const Patch& p = box.p;
+  const Kokkos::Array<double, 3> h = box.h;
+  const double dt = box.dt, V = h[0] * h[1] * h[2];
+  const double area[3] = {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
+  const ConstVectorField4 U = box.velocities();
+  auto qh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.q);
+  auto mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.mass);
+  std::vector<decltype(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.U[0]))> uh;
+  std::vector<decltype(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.grad[0]))> gh, gmh;
+  for (int d = 0; d < 3; ++d) {
+    uh.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.U[d]));
+    gh.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.grad[d]));
+    gmh.push_back(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), box.mass_grad[d]));
+  }
+  // The outflux distances of cell c (E39): d[2 dir] low face, d[2 dir + 1] high face.
+  auto distances = [&](const long c[3], double d[6]) {
+    for (int dir = 0; dir < 3; ++dir) {
+      long hi[3] = {c[0], c[1], c[2]};
+      hi[dir] += 1;
+      const double lo_u = uh[dir](0, c[0], c[1], c[2]), hi_u = uh[dir](0, hi[0], hi[1], hi[2]);
+      d[2 * dir] = std::max(0.0, -lo_u * dt);
+      d[2 * dir + 1] = std::max(0.0, hi_u * dt);
+    }
+  };
+  // What cell c sends out through its face f (E42, E43).
+  auto outflux = [&](const long c[3], int f, bool compatible) {
+    double d[6];
+    distances(c, d);
+    const int dir = f / 2;
+    double r[3];
+    for (int e = 0; e < 3; ++e) r[e] = 0.5 * (d[2 * e] - d[2 * e + 1]);
+    r[dir] = f % 2 ? 0.5 * (h[dir] - d[f]) : 0.5 * (d[f] - h[dir]);
+    double gq = 0, gm = 0;
+    for (int e = 0; e < 3; ++e) {
+      gq += gh[e](c[0], c[1], c[2]) * r[e];
+      gm += gmh[e](c[0], c[1], c[2]) * r[e];
+    }
+    const double qc = qh(0, c[0], c[1], c[2]), mc = mh(0, c[0], c[1], c[2]);
+    const double slab = compatible ? (mc + gm) * qc + mc * gq : qc + gq;
+    return slab * d[f] * area[dir];
+  };
+  const IndexBox cells = p.owned_cells();
+  for (bool compatible : {false, true}) {
+    const ConstField4 m = compatible ? ConstField4(box.mass) : ConstField4();
+    const Field4 change = make_field("a", p, Location::cell, 1), two_pass = make_field("b", p, Location::cell, 1);
+    advection_change(cells, h, dt, U, 0, box.q, m, true, box.grad, box.mass_grad, change);
+    const FaceFluxes flux = make_face_fluxes("flux", p);
+    face_fluxes(cells, h, dt, U, 0, box.q, m, true, box.grad, box.mass_grad, flux);
+    flux_difference(cells, 1.0 / V, flux, 0, two_pass);
+    auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), change);
+    auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), two_pass);
+    for (long i = cells.lo[0]; i < cells.hi[0]; ++i)
+      for (long j = cells.lo[1]; j < cells.hi[1]; ++j)
+        for (long k = cells.lo[2]; k < cells.hi[2]; ++k) {
+          const long c[3] = {i, j, k};
+          double net = 0, scale = 0;
+          for (int f = 0; f < 6; ++f) {
+            long nb[3] = {i, j, k};
+            nb[f / 2] += f % 2 ? 1 : -1;
+            const double in = outflux(nb, f ^ 1, compatible), out = outflux(c, f, compatible);
+            net += in - out;
+            scale += std::abs(in) + std::abs(out);
+          }
+          EXPECT_NEAR(a(0, i, j, k), net / V, 1e-14 * scale / V) << "cell " << i << " " << j << " " << k;
+          EXPECT_EQ(a(0, i, j, k), b(0, i, j, k)) << "cell " << i << " " << j << " " << k;
+          EXPECT_GT(scale, 0.0);
+        }
   }
 }
 

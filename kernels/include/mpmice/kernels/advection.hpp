@@ -163,9 +163,6 @@ void with_slab(bool second_order, const ConstField4& q, const ConstField4& mass,
   }
 }
 
-// Fluxes through the faces of direction Dir in `faces` (face (i, j, k) between cells
-// (i, j, k) - e_Dir and (i, j, k)): the donor's slab through the face, positive along
-// +Dir, the slab value times d A as (E40, E42, E43) give it.
 // The first-order flux through the low Dir-face of cell (i, j, k) (E40): the donor's
 // value q (u dt) A, the donor chosen by the sign of u without a branch (face velocities
 // of either sign would mispredict one branch per face, and the loops vectorise).
@@ -195,27 +192,53 @@ KOKKOS_FORCEINLINE_FUNCTION double net_inflow(double x_lo, double x_hi, double y
   return sum * inv_volume;
 }
 
-template <int Dir, class Slab>
-void face_fluxes(const IndexBox& faces, double dt, double area, const ConstVectorField4& U, int m, const Slab& slab,
-                 const Field3& flux) {
+// What leaves cell (i, j, k) through each of its faces to second order (E42, E43): the
+// slab value times the outflux volume d A, written to out[f] for face f (2 dir: low,
+// 2 dir + 1: high); exactly 0 where the face velocity does not point out, whatever
+// the slab value. One pass over the cells computes each cell's outflux distances
+// once; the flux through a face is then the difference of its two cells' outfluxes.
+template <class Slab>
+void cell_outfluxes(const IndexBox& cells, double dt, const Kokkos::Array<double, 3> area, const ConstVectorField4& U,
+                    int m, const Slab& slab, const Kokkos::Array<Field3, 6>& out) {
+  for_each_index(
+      "mpmice::cell_outfluxes", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        double d[6];
+        outflux_distances(U, m, i, j, k, dt, d);
+        unrolled_for<6>([&](int f) {
+          // Computed, then selected: a conditional call would be a branch, and the loop
+          // would not vectorise.
+          const double out_f = slab(i, j, k, f, d) * d[f] * area[f / 2];
+          out[f](i, j, k) = d[f] > 0 ? out_f : 0.0;
+        });
+      });
+}
+
+// The second-order flux through the low Dir-face of cell (i, j, k), positive along
+// +Dir: what the cell below sends through its high face minus what the cell sends
+// through its low face. At most one of the two is not 0, so the difference is that one
+// exactly.
+template <int Dir>
+KOKKOS_FORCEINLINE_FUNCTION double outflux_face_flux(const Kokkos::Array<Field3, 6>& out, long i, long j, long k) {
   constexpr long di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
-  constexpr int low = 2 * Dir, high = 2 * Dir + 1;  // the donor's face: below the face, its high one
-  for_each_index("mpmice::face_fluxes", faces, KOKKOS_LAMBDA(long i, long j, long k) {
-    if constexpr (!Slab::second_order) {
-      flux(i, j, k) = first_order_flux<Dir>(U, m, slab, i, j, k, dt, area);
-    } else {
-      const double u = U[Dir](m, i, j, k);
-      // Both candidate donors' slabs, then the one the sign of u picks: no branch, so
-      // the loop over faces vectorises (each face does the work of two).
-      double d_below[6], d_above[6];
-      outflux_distances(U, m, i - di, j - dj, k - dk, dt, d_below);
-      outflux_distances(U, m, i, j, k, dt, d_above);
-      // The cell below through its high face, positive; the cell above through its low face.
-      const double out_below = slab(i - di, j - dj, k - dk, high, d_below) * d_below[high] * area;
-      const double out_above = -(slab(i, j, k, low, d_above) * d_above[low] * area);
-      flux(i, j, k) = u > 0 ? out_below : (u < 0 ? out_above : 0.0);
-    }
-  });
+  return out[2 * Dir + 1](i - di, j - dj, k - dk) - out[2 * Dir](i, j, k);
+}
+
+// flux(i, j, k) for the Dir-faces in `faces` (face (i, j, k) between cells
+// (i, j, k) - e_Dir and (i, j, k)), first order.
+template <int Dir, class Slab>
+void first_order_face_fluxes(const IndexBox& faces, double dt, double area, const ConstVectorField4& U, int m,
+                             const Slab& slab, const Field3& flux) {
+  for_each_index(
+      "mpmice::face_fluxes", faces,
+      KOKKOS_LAMBDA(long i, long j, long k) { flux(i, j, k) = first_order_flux<Dir>(U, m, slab, i, j, k, dt, area); });
+}
+
+// The same from the cells' outfluxes (second order).
+template <int Dir>
+void outflux_face_fluxes(const IndexBox& faces, const Kokkos::Array<Field3, 6>& out, const Field3& flux) {
+  for_each_index(
+      "mpmice::face_fluxes", faces,
+      KOKKOS_LAMBDA(long i, long j, long k) { flux(i, j, k) = outflux_face_flux<Dir>(out, i, j, k); });
 }
 
 // Adv[Q] to first order in one pass over the cells (E40): each cell computes the
@@ -253,20 +276,75 @@ inline FaceFluxes make_face_fluxes(const std::string& label, const Patch& patch)
           make_field(label + "_z", patch, Location::z_face)};
 }
 
+/// What leaves each cell through each of its six faces over the step, to second order
+/// (E42, E43): outflux[f](i, j, k) for face f (2 d: the low d-face, 2 d + 1: the high
+/// one), the slab value times the outflux volume, 0 where the face velocity points in.
+/// Cell arrays; scratch of the second-order advection.
+using CellOutfluxes = Kokkos::Array<Field3, 6>;
+
+inline CellOutfluxes make_cell_outfluxes(const std::string& label, const Patch& patch) {
+  CellOutfluxes out;
+  for (int f = 0; f < 6; ++f) out[f] = make_field(label + "_" + std::to_string(f), patch, Location::cell);
+  return out;
+}
+
+namespace detail {
+
+inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
+  return {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
+}
+
+// The second-order outfluxes of `cells` and of the layer of cells around them (the
+// fluxes through the cells' faces need both sides), into `scratch`, allocated here
+// with the extents of a cell array like `like` if empty. The layer's edge and corner
+// cells are computed too (one box, one pass) and never used.
+inline CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                                            const ConstVectorField4& U, int m, const ConstField4& q,
+                                            const ConstField4& mass, const GradientField& grad,
+                                            const GradientField& mass_grad, const ConstField4& like,
+                                            CellOutfluxes scratch) {
+  if (scratch[0].data() == nullptr)
+    for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", like.extent(1), like.extent(2), like.extent(3));
+  IndexBox around = cells;
+  for (int d = 0; d < 3; ++d) {
+    around.lo[d] -= 1;
+    around.hi[d] += 1;
+  }
+  with_slab(true, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
+    if constexpr (std::decay_t<decltype(slab)>::second_order)
+      cell_outfluxes(around, dt, face_areas(h), U, m, slab, scratch);
+  });
+  return scratch;
+}
+
+}  // namespace detail
+
 /// The amount of Q (material m) through every face of `cells` (E40, E42, E43), each
 /// face once: the donor cell's slab, positive along +d. Non-compatible: q holds cell
 /// totals (mass, volume fraction). Compatible (`mass` given): q holds the specific value
 /// and Q = mass q. `grad`, `mass_grad` are limited gradients (ignored for first order);
 /// face velocities U must be valid on the faces of the cells and of their neighbours.
+/// Second order works through the cells' outfluxes (`scratch`: make_cell_outfluxes;
+/// allocated here if empty).
 inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                         const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
                         bool second_order, const GradientField& grad, const GradientField& mass_grad,
-                        const FaceFluxes& flux) {
-  const double area[3] = {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
-  detail::with_slab(second_order, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
-    detail::face_fluxes<0>(faces_of(cells, 0), dt, area[0], U, m, slab, flux[0]);
-    detail::face_fluxes<1>(faces_of(cells, 1), dt, area[1], U, m, slab, flux[1]);
-    detail::face_fluxes<2>(faces_of(cells, 2), dt, area[2], U, m, slab, flux[2]);
+                        const FaceFluxes& flux, CellOutfluxes scratch = CellOutfluxes()) {
+  if (second_order) {
+    const CellOutfluxes out =
+        detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, q, scratch);
+    detail::outflux_face_fluxes<0>(faces_of(cells, 0), out, flux[0]);
+    detail::outflux_face_fluxes<1>(faces_of(cells, 1), out, flux[1]);
+    detail::outflux_face_fluxes<2>(faces_of(cells, 2), out, flux[2]);
+    return;
+  }
+  const Kokkos::Array<double, 3> area = detail::face_areas(h);
+  detail::with_slab(false, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
+    if constexpr (!std::decay_t<decltype(slab)>::second_order) {
+      detail::first_order_face_fluxes<0>(faces_of(cells, 0), dt, area[0], U, m, slab, flux[0]);
+      detail::first_order_face_fluxes<1>(faces_of(cells, 1), dt, area[1], U, m, slab, flux[1]);
+      detail::first_order_face_fluxes<2>(faces_of(cells, 2), dt, area[2], U, m, slab, flux[2]);
+    }
   });
 }
 
@@ -282,31 +360,32 @@ inline void flux_difference(const IndexBox& cells, double inv_volume, const Face
       });
 }
 
-/// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43). Second order:
-/// face_fluxes, then flux_difference, `scratch` holding the fluxes (make_face_fluxes;
-/// allocated here if empty). First order: one pass, the same values to round-off.
+/// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43), the same values as
+/// flux_difference of face_fluxes. First order: one pass (equal to round-off). Second
+/// order: the cells' outfluxes (`scratch`: make_cell_outfluxes; allocated here if
+/// empty), then each cell's change from its own and its six neighbours' (bit for bit).
 inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                              const ConstVectorField4& U, int m, const ConstField4& q,
                              const ConstField4& mass, bool second_order,
                              const GradientField& grad, const GradientField& mass_grad,
-                             const Field4& change, FaceFluxes scratch = FaceFluxes()) {
+                             const Field4& change, CellOutfluxes scratch = CellOutfluxes()) {
   const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
   if (!second_order) {
-    const Kokkos::Array<double, 3> area{h[1] * h[2], h[0] * h[2], h[0] * h[1]};
+    const Kokkos::Array<double, 3> area = detail::face_areas(h);
     detail::with_slab(false, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
       if constexpr (!std::decay_t<decltype(slab)>::second_order)
         detail::first_order_change(cells, dt, area, U, m, slab, inv_volume, change);
     });
     return;
   }
-  if (scratch[0].data() == nullptr) {
-    // Face arrays as large as the change's cell arrays plus one along each direction.
-    for (int d = 0; d < 3; ++d)
-      scratch[d] = Field3("advection_flux", change.extent(1) + (d == 0), change.extent(2) + (d == 1),
-                          change.extent(3) + (d == 2));
-  }
-  face_fluxes(cells, h, dt, U, m, q, mass, second_order, grad, mass_grad, scratch);
-  flux_difference(cells, inv_volume, scratch, m, change);
+  const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, q, scratch);
+  for_each_index(
+      "mpmice::outflux_difference", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        change(m, i, j, k) = detail::net_inflow(
+            detail::outflux_face_flux<0>(out, i, j, k), detail::outflux_face_flux<0>(out, i + 1, j, k),
+            detail::outflux_face_flux<1>(out, i, j, k), detail::outflux_face_flux<1>(out, i, j + 1, k),
+            detail::outflux_face_flux<2>(out, i, j, k), detail::outflux_face_flux<2>(out, i, j, k + 1), inv_volume);
+      });
 }
 
 /// to[d] += from[d] on the faces of `cells` (the fluids' volume fluxes summed over them).
