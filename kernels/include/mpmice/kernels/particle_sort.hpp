@@ -2,7 +2,12 @@
 /// \file particle_sort.hpp
 /// \brief Particles sorted by the cell they are in (row-major local cell index), so
 ///        that particles of one cell are neighbours in memory (better locality for
-///        the scatter and gather). A stable counting sort by cell key.
+///        the scatter and gather). A counting sort by cell key (Kokkos::BinSort). It
+///        is not stable on more than one thread: BinSort places a cell's particles with
+///        atomics, so their order among themselves varies from run to run. The step's
+///        sums do not depend on it (p2g and the internal force add in exact quanta,
+///        g2p gathers); sums in particle order do, at round-off (the history's
+///        particle totals: crossflow's beam momentum on 2 threads, 17th digit).
 #include <Kokkos_Sort.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
