@@ -3,6 +3,7 @@
 /// \brief Steps 25-26: the advected totals back to density, velocity, temperature and
 ///        specific volume (E37, E38).
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/math.hpp>
 
 namespace mpmice {
@@ -11,8 +12,8 @@ namespace mpmice {
 inline void advance_density(const IndexBox& cells, double cell_volume, int m,
                             const ConstField4& mass_L, const ConstField4& adv_mass,
                             const Field4& rho_new) {
-  Kokkos::parallel_for(
-      "mpmice::advance_density", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  for_each_index(
+      "mpmice::advance_density", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         rho_new(m, i, j, k) = (mass_L(m, i, j, k) + adv_mass(m, i, j, k)) / cell_volume;
       });
 }
@@ -23,8 +24,8 @@ inline void advance_specific(const IndexBox& cells, double cell_volume, int m,
                              const ConstField4& mass_L, const ConstField4& q_L,
                              const ConstField4& adv_q, const ConstField4& rho_new,
                              const Field4& q_new) {
-  Kokkos::parallel_for(
-      "mpmice::advance_specific", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+  for_each_index(
+      "mpmice::advance_specific", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         q_new(m, i, j, k) = (mass_L(m, i, j, k) * q_L(m, i, j, k) + adv_q(m, i, j, k)) /
                             (rho_new(m, i, j, k) * cell_volume);
       });
