@@ -296,15 +296,14 @@ inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
 
 // The second-order outfluxes of `cells` and of the layer of cells around them (the
 // fluxes through the cells' faces need both sides), into `scratch`, allocated here
-// with the extents of a cell array like `like` if empty. The layer's edge and corner
+// with the extents of q's cell arrays if empty. The layer's edge and corner
 // cells are computed too (one box, one pass) and never used.
 inline CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                                             const ConstVectorField4& U, int m, const ConstField4& q,
                                             const ConstField4& mass, const GradientField& grad,
-                                            const GradientField& mass_grad, const ConstField4& like,
-                                            CellOutfluxes scratch) {
+                                            const GradientField& mass_grad, CellOutfluxes scratch) {
   if (scratch[0].data() == nullptr)
-    for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", like.extent(1), like.extent(2), like.extent(3));
+    for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", q.extent(1), q.extent(2), q.extent(3));
   IndexBox around = cells;
   for (int d = 0; d < 3; ++d) {
     around.lo[d] -= 1;
@@ -331,8 +330,7 @@ inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h,
                         bool second_order, const GradientField& grad, const GradientField& mass_grad,
                         const FaceFluxes& flux, CellOutfluxes scratch = CellOutfluxes()) {
   if (second_order) {
-    const CellOutfluxes out =
-        detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, q, scratch);
+    const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, scratch);
     detail::outflux_face_fluxes<0>(faces_of(cells, 0), out, flux[0]);
     detail::outflux_face_fluxes<1>(faces_of(cells, 1), out, flux[1]);
     detail::outflux_face_fluxes<2>(faces_of(cells, 2), out, flux[2]);
@@ -378,7 +376,7 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
     });
     return;
   }
-  const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, q, scratch);
+  const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, scratch);
   for_each_index(
       "mpmice::outflux_difference", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         change(m, i, j, k) = detail::net_inflow(
