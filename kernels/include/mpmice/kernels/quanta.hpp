@@ -30,16 +30,23 @@ struct SumQuanta {
 struct Quantum {
   double q = 0, inverse = 0;
   double unrounded = 1;  ///< 1 if q = 0, else 0
+  double unit = 1;       ///< what `in_units` counts in: q, or 1 if q = 0
+  double scale = 1;      ///< 1/unit, exact
+  double half = 0;       ///< 1/2 if q > 0, else 0
   Quantum() = default;
   KOKKOS_INLINE_FUNCTION Quantum(double quantum)
-      : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0), unrounded(quantum > 0 ? 0.0 : 1.0) {}
+      : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0), unrounded(quantum > 0 ? 0.0 : 1.0),
+        unit(quantum > 0 ? quantum : 1.0), scale(quantum > 0 ? 1.0 / quantum : 1.0), half(quantum > 0 ? 0.5 : 0.0) {}
   /// x rounded to the nearest multiple of q (x itself if q = 0).
   KOKKOS_INLINE_FUNCTION double round(double x) const { return q > 0 ? math::floor(x * inverse + 0.5) * q : x; }
-  /// The same value as `round` without a branch, for straight code that GCC vectorises
-  /// (it keeps `round`'s select as a branch there): with q = 0 the rounded part is 0 and
-  /// x enters once; with q > 0 x enters times 0. Both sums are exact.
-  KOKKOS_INLINE_FUNCTION double round_without_branch(double x) const {
-    return math::floor(x * inverse + 0.5) * q + x * unrounded;
+  /// `round(x)` counted in `unit`s, without a branch (straight code that GCC vectorises;
+  /// it keeps `round`'s select as a branch there): a whole number below 2^53 with q > 0,
+  /// x itself with q = 0. `unit` times it is round(x) bit for bit, and so is `unit`
+  /// times a sum of them the sum of the rounded values: a loop adding many
+  /// contributions adds their counts and multiplies once (p2g_cell_runs).
+  KOKKOS_INLINE_FUNCTION double in_units(double x) const {
+    const double t = x * scale + half;  // x scale is exact: a power of two
+    return unrounded != 0.0 ? t : math::floor(t);
   }
 };
 
