@@ -8,33 +8,27 @@
 
 namespace mpmice {
 
-/// Resets `fint` (material slot m) over the patch, then scatters (E24). The gas gauge
-/// pressure pp_p is added to the stress (MPMICE, pitfall P5); 0 for MPM alone. With
-/// quanta `q` (quanta.hpp) each contribution is rounded to q.internal_force, and nodes
-/// whose share of the particle's mass rounds to zero (no mass from it in p2g) get none.
-///
-/// A particle's forces must sum to zero (sum_i grad S_ip = 0): its stress cannot push
-/// itself. Skipping a node breaks that (and the rounding does, by a few quanta), so the
-/// particle's node with the largest weight also gets minus the sum of what the others
-/// got; the sum is then exactly zero. Without it a burning particle of a trace of its
-/// mass, whose far nodes are skipped, pushed itself and the grid: a whole burn of
-/// problems/burn_box.yaml made z-momentum of 1.8e-7 of sqrt(M E) from nothing.
-/// `scratch` holds the scatter's copies between calls.
+namespace detail {
+/// The stress a particle's nodes feel: sigma_p + (pp_p - q_p) I (E24).
+KOKKOS_FORCEINLINE_FUNCTION Mat3 force_stress(const ParticleData& data, long p) {
+  Mat3 stress = load_tensor(data, p, ParticleField::s00);
+  const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
+  for (int d = 0; d < 3; ++d) stress(d, d) += iso;
+  return stress;
+}
+
+/// internal_force's scatter particle by particle, node by node (GIMP).
 template <class Shape>
-void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
-                    const VectorField4& fint, const SumQuanta& q, ScatterScratch& scratch) {
+void internal_force_each_particle(const NodeGrid& grid, long count, const ParticleData& data,
+                                  const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
+                                  const Quantum& quantum, const Quantum& mass_quantum) {
   constexpr int n = Shape::nodes;
-  const Quantum quantum(q.internal_force), mass_quantum(q.mass);
-  const NodeStencil<n> rows = block_stencil<n>(fint[0]);
-  const NodeScatter& scatter = scratch.zeroed("mpmice::internal_force", fint[0], 3);
   scatter_from_particles("mpmice::internal_force", count, KOKKOS_LAMBDA(long p) {
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = rows.at(wt.first);
-    Mat3 stress = load_tensor(data, p, ParticleField::s00);
-    const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
-    for (int d = 0; d < 3; ++d) stress(d, d) += iso;
+    const Mat3 stress = force_stress(data, p);
     const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
     auto node = scatter.access();
     double given[3] = {0, 0, 0}, heaviest = 0;
@@ -62,6 +56,117 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
     if (heaviest_row >= 0)
       for (int d = 0; d < 3; ++d) node(heaviest_row, d) += given[d];
   });
+}
+
+/// internal_force's scatter for the linear shape, whose nodes are the same for every
+/// particle of a cell: as p2g_cell_runs, a run of particles of one cell adds its forces
+/// counted in quanta (Quantum::in_units) in a vector loop over its 8 nodes, and into the
+/// scatter once per node. The node of largest weight is found after the vector loop, in
+/// the nodes' order, as internal_force_each_particle finds it. With quanta the sums are
+/// exact, so they do not depend on how the particles split into runs or threads. They
+/// are not always bit for bit those of internal_force_each_particle: GCC fuses a
+/// different product of sigma . grad S into an FMA in the vector loop than in the
+/// scalar one, so a force within an ulp of half a quantum can round to the other
+/// neighbour (one contribution in a 300-step container run with linear shapes). Test:
+/// `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
+template <class Shape>
+void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
+                              const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
+                              const Quantum& quantum, const Quantum& mass_quantum) {
+  constexpr int N = 8;
+  scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
+    auto node = scatter.access();
+    double units[3][N] = {};
+    long run_first = -1;
+    // Adds the run's sums into its nodes and zeroes them.
+    const auto add_run = [&]() {
+      unrolled_for<N>([&](int a) {
+        if (run_first >= 0) {
+          const long row = run_first + rows.steps[a];
+          for (int d = 0; d < 3; ++d) node(row, d) += units[d][a] * quantum.unit;
+        }
+      });
+      for (int d = 0; d < 3; ++d)
+        for (int a = 0; a < N; ++a) units[d][a] = 0.0;
+    };
+    for (long p = lo; p < hi; ++p) {
+      double x[3], half[3];
+      particle_position(data, p, x, half);
+      const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+      const long first = rows.at(wt.first);
+      if (first != run_first) {
+        add_run();
+        run_first = first;
+      }
+      const Mat3 stress = force_stress(data, p);
+      const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
+      // The forces in quanta, vectorised over the nodes (a long index and doubles for
+      // the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
+      double kept_weight[N], force[3][N];
+      MPMICE_PRAGMA_SIMD
+      for (long a = 0; a < N; ++a) {
+        const double S = linear_node_weight(wt, a);
+        double gx, gy, gz;
+        linear_node_gradient(wt, a, gx, gy, gz);
+        const double kept = mass_quantum.in_units(S * mp) + mass_quantum.unrounded;
+        const double f0 = quantum.in_units(vol * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz));
+        const double f1 = quantum.in_units(vol * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz));
+        const double f2 = quantum.in_units(vol * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz));
+        kept_weight[a] = kept != 0.0 ? S : 0.0;
+        force[0][a] = kept != 0.0 ? f0 : 0.0;
+        force[1][a] = kept != 0.0 ? f1 : 0.0;
+        force[2][a] = kept != 0.0 ? f2 : 0.0;
+      }
+      // The particle's forces sum to zero: its kept node of largest weight, the first
+      // in the nodes' order, also gets the sum of all (internal_force_each_particle).
+      long heaviest = -1;
+      double largest = 0, given0 = 0, given1 = 0, given2 = 0;
+      unrolled_for<N>([&](int a) {
+        // Arithmetic, not selects: GCC made the selects branches, which mispredict.
+        const long larger = kept_weight[a] > largest;
+        heaviest += larger * (a - heaviest);
+        largest = kept_weight[a] > largest ? kept_weight[a] : largest;
+        given0 += force[0][a];
+        given1 += force[1][a];
+        given2 += force[2][a];
+      });
+      // Added as a vector loop too: a store to one node of the run's sums, read back as
+      // a vector, stalls (no store forwarding).
+      MPMICE_PRAGMA_SIMD
+      for (long a = 0; a < N; ++a) {
+        units[0][a] += (a == heaviest ? given0 : 0.0) - force[0][a];
+        units[1][a] += (a == heaviest ? given1 : 0.0) - force[1][a];
+        units[2][a] += (a == heaviest ? given2 : 0.0) - force[2][a];
+      }
+    }
+    add_run();
+  });
+}
+}  // namespace detail
+
+/// Resets `fint` (material slot m) over the patch, then scatters (E24). The gas gauge
+/// pressure pp_p is added to the stress (MPMICE, pitfall P5); 0 for MPM alone. With
+/// quanta `q` (quanta.hpp) each contribution is rounded to q.internal_force, and nodes
+/// whose share of the particle's mass rounds to zero (no mass from it in p2g) get none.
+///
+/// A particle's forces must sum to zero (sum_i grad S_ip = 0): its stress cannot push
+/// itself. Skipping a node breaks that (and the rounding does, by a few quanta), so the
+/// particle's node with the largest weight also gets minus the sum of what the others
+/// got; the sum is then exactly zero. Without it a burning particle of a trace of its
+/// mass, whose far nodes are skipped, pushed itself and the grid: a whole burn of
+/// problems/burn_box.yaml made z-momentum of 1.8e-7 of sqrt(M E) from nothing.
+/// `scratch` holds the scatter's copies between calls.
+template <class Shape>
+void internal_force(const NodeGrid& grid, long count, const ParticleData& data, int m,
+                    const VectorField4& fint, const SumQuanta& q, ScatterScratch& scratch) {
+  constexpr int n = Shape::nodes;
+  const Quantum quantum(q.internal_force), mass_quantum(q.mass);
+  const NodeStencil<n> rows = block_stencil<n>(fint[0]);
+  const NodeScatter& scatter = scratch.zeroed("mpmice::internal_force", fint[0], 3);
+  if constexpr (n == 2)
+    detail::internal_force_cell_runs<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
+  else
+    detail::internal_force_each_particle<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
   add_scatter_into<3>(scatter, {fint[0], fint[1], fint[2]}, m, {0, 0, 0});
 }
 

@@ -86,6 +86,20 @@ KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shap
   return wa * wb * wc;
 }
 
+/// The weight's gradient (gx, gy, gz) at node i, as ParticleWeights::gradient forms it,
+/// written as linear_node_weight (three doubles, not an array: see there).
+template <class Shape>
+KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shape>& wt, long i, double& gx, double& gy,
+                                                      double& gz) {
+  const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
+  const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0], da = a != 0.0 ? wt.dw[0][1] : wt.dw[0][0];
+  const double wb = b != 0.0 ? wt.w[1][1] : wt.w[1][0], db = b != 0.0 ? wt.dw[1][1] : wt.dw[1][0];
+  const double wc = c != 0.0 ? wt.w[2][1] : wt.w[2][0], dc = c != 0.0 ? wt.dw[2][1] : wt.dw[2][0];
+  gx = da * wb * wc;
+  gy = wa * db * wc;
+  gz = wa * wb * dc;
+}
+
 /// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
 /// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
 /// particles' contributions in registers, vectorised over its 8 nodes, and adds the
