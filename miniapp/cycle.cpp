@@ -319,10 +319,12 @@ void Cycle::add_node_to_cell_step() {
           // the faces' density and temperature conditions are the fluids'. (A Dirichlet
           // density there would advect solid volume fraction in through an inflow.)
           const FaceBcs inside = mirror_or_zero_gradient(bc.velocity);
-          fill_extra_cells(rho, m, p, inside, -1);
-          fill_extra_cells(temp, m, p, inside, -1);
-          fill_extra_cells(sp_vol, m, p, inside, -1);
-          for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], m, p, bc.velocity, d);
+          fill_extra_cells(Kokkos::Array<ExtraCells, 6>{ExtraCells(rho, m, inside, -1), ExtraCells(temp, m, inside, -1),
+                                                        ExtraCells(sp_vol, m, inside, -1),
+                                                        ExtraCells(vel[0], m, bc.velocity, 0),
+                                                        ExtraCells(vel[1], m, bc.velocity, 1),
+                                                        ExtraCells(vel[2], m, bc.velocity, 2)},
+                           p);
         }
       }});
 }
@@ -641,8 +643,11 @@ void Cycle::add_lagrangian_steps() {
                  ctx.read<Field4>("int_eng_L_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
                  ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>(temp_before), vel, temp,
                  ctx.write<Field4>("Tdot_CC"));
-        for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], p, bc.velocity, d);
-        fill_extra_cells(temp, p, bc.temperature, -1);
+        fill_extra_cells(Kokkos::Array<ExtraCells, 4>{ExtraCells(vel[0], bc.velocity, 0),
+                                                      ExtraCells(vel[1], bc.velocity, 1),
+                                                      ExtraCells(vel[2], bc.velocity, 2),
+                                                      ExtraCells(temp, bc.temperature, -1)},
+                         p);
       }});
 
   // After Step 17: the pressure work's heat (pressure_work_heat.hpp; docs/design.md).
@@ -742,8 +747,11 @@ void Cycle::add_lagrangian_steps() {
           mpm_cell_rates(owned, dt, s, m, mats.eos[m].cv, mats.is_rigid(m), ctx.read<Field4>("mass_L_CC"),
                          read_vec(ctx, "mom_L_CC"), ctx.read<Field4>("int_eng_L_CC"), read_vec(ctx, "mom_source_CC"),
                          read_vec(ctx, "vel_ME_CC"), ctx.read<Field4>("temp_ME_CC"), acc, rate);
-          for (int d = 0; d < 3; ++d) fill_extra_cells(acc[d], s, p, rate_bcs, d);
-          fill_extra_cells(rate, s, p, rate_bcs, -1);
+          fill_extra_cells(Kokkos::Array<ExtraCells, 4>{ExtraCells(acc[0], s, rate_bcs, 0),
+                                                        ExtraCells(acc[1], s, rate_bcs, 1),
+                                                        ExtraCells(acc[2], s, rate_bcs, 2),
+                                                        ExtraCells(rate, s, rate_bcs, -1)},
+                           p);
         }
       }});
   m_steps.push_back(Step{

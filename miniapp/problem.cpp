@@ -279,11 +279,14 @@ void fill_state_extra_cells(Problem& pb, const std::string& suffix) {
   FaceBcs sp_vol_bc = bc.density;
   for (int f = 0; f < 6; ++f)
     if (sp_vol_bc[f].kind == BcKind::dirichlet) sp_vol_bc[f].value[0] = 1.0 / bc.density[f].value[0];
-  fill_extra_cells(pb.fields.get<Field4>("rho_CC" + suffix), p, bc.density, -1);
-  fill_extra_cells(pb.fields.get<Field4>("temp_CC" + suffix), p, bc.temperature, -1);
-  fill_extra_cells(pb.fields.get<Field4>("sp_vol_CC" + suffix), p, sp_vol_bc, -1);
-  for (int d = 0; d < 3; ++d) fill_extra_cells(vel[d], p, bc.velocity, d);
-  fill_extra_cells(pb.fields.get<Field3>("press_CC" + suffix), p, bc.pressure, -1);
+  fill_extra_cells(
+      Kokkos::Array<ExtraCells, 7>{
+          ExtraCells(pb.fields.get<Field4>("rho_CC" + suffix), bc.density, -1),
+          ExtraCells(pb.fields.get<Field4>("temp_CC" + suffix), bc.temperature, -1),
+          ExtraCells(pb.fields.get<Field4>("sp_vol_CC" + suffix), sp_vol_bc, -1), ExtraCells(vel[0], bc.velocity, 0),
+          ExtraCells(vel[1], bc.velocity, 1), ExtraCells(vel[2], bc.velocity, 2),
+          ExtraCells(pb.fields.get<Field3>("press_CC" + suffix), bc.pressure, -1)},
+      p);
 }
 
 std::unique_ptr<Problem> make_problem(const Input& input, MPI_Comm comm) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <mpmice/kernels/advection.hpp>
+#include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/equilibrate_pressure.hpp>
 #include <mpmice/kernels/exchange.hpp>
 #include <mpmice/kernels/grid_state.hpp>
@@ -579,5 +580,78 @@ TEST(SolidEos, InverseAndDerivative) {
       const double fd = (eos_pressure(cu, rho + h, 300) - eos_pressure(cu, rho - h, 300)) / (2 * h);
       EXPECT_NEAR(eos_dp_drho(cu, rho, 300), fd, 1e-4 * fd) << p;
     }
+  }
+}
+
+// fill_extra_cells of several fields in one launch per face gives what filling them one
+// by one gives, and each kind of condition its closed form: a Dirichlet face its value,
+// a Neumann face the adjacent inside cell plus gradient x distance, a symmetry face the
+// mirror image with the normal component's sign changed. Fields of two materials, of
+// one material slot, and material-independent.
+TEST(BoundaryConditions, ExtraCellsOfSeveralFieldsInOneLaunch) {
+  Grid g;
+  g.cells = {4, 3, 5};
+  g.spacing = {0.1, 0.2, 0.3};
+  const Patch patch = whole_grid_patch(g, 2);
+  const int G = patch.ghosts;
+  FaceBcs bcs;
+  bcs[0].kind = BcKind::dirichlet;  // x-
+  bcs[0].value[0] = 7.0;
+  bcs[0].value[1] = 8.0;
+  bcs[1].kind = BcKind::neumann;  // x+: gradient 2 (and 3 for component 1)
+  bcs[1].value[0] = 2.0;
+  bcs[1].value[1] = 3.0;
+  bcs[2].kind = BcKind::symmetry;  // y-
+  bcs[4].kind = BcKind::symmetry;  // z-
+  bcs[5].kind = BcKind::dirichlet;  // z+
+  bcs[5].value[0] = -1.0;
+  bcs[5].value[1] = -2.0;
+  const Field4 a = make_field("a", patch, Location::cell, 2), vy = make_field("vy", patch, Location::cell, 3);
+  const Field3 p = make_field("p", patch, Location::cell);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto randomise = [&](auto field) {
+    auto h = Kokkos::create_mirror_view(field);
+    for (std::size_t i = 0; i < h.span(); ++i) h.data()[i] = u(rng);
+    Kokkos::deep_copy(field, h);
+  };
+  randomise(a);
+  randomise(vy);
+  randomise(p);
+  auto copy = [](auto field) {
+    auto c = decltype(field)("copy", field.layout());
+    Kokkos::deep_copy(c, field);
+    return c;
+  };
+  const Field4 a1 = copy(a), vy1 = copy(vy);
+  const Field3 p1 = copy(p);
+  // Slot 1 of vy only: slots 0 and 2 must keep their random extra cells.
+  fill_extra_cells(Kokkos::Array<ExtraCells, 3>{ExtraCells(a, bcs, -1), ExtraCells(vy, 1, bcs, 1),
+                                                ExtraCells(p, bcs, -1)},
+                   patch);
+  fill_extra_cells(a1, patch, bcs, -1);
+  fill_extra_cells(vy1, 1, patch, bcs, 1);
+  fill_extra_cells(p1, patch, bcs, -1);
+  auto host = [](auto field) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), field); };
+  const auto ha = host(a), ha1 = host(a1), hv = host(vy), hv1 = host(vy1);
+  const auto hp = host(p), hp1 = host(p1);
+  for (std::size_t i = 0; i < ha.span(); ++i) ASSERT_EQ(ha.data()[i], ha1.data()[i]) << i;
+  for (std::size_t i = 0; i < hv.span(); ++i) ASSERT_EQ(hv.data()[i], hv1.data()[i]) << i;
+  for (std::size_t i = 0; i < hp.span(); ++i) ASSERT_EQ(hp.data()[i], hp1.data()[i]) << i;
+
+  const int nx = g.cells[0], j = G + 1, k = G + 2;  // a row through the inside in y and z
+  for (int l = 1; l <= G; ++l) {
+    for (int m = 0; m < 2; ++m) {
+      EXPECT_EQ(ha(m, G - l, j, k), 7.0);                                                   // x- Dirichlet
+      EXPECT_DOUBLE_EQ(ha(m, G + nx - 1 + l, j, k), ha(m, G + nx - 1, j, k) + 2.0 * 0.1 * l);  // x+ Neumann
+      EXPECT_EQ(ha(m, G + 1, G - l, k), ha(m, G + 1, G - 1 + l, k));                        // y- mirror
+    }
+    EXPECT_EQ(hv(1, G - l, j, k), 8.0);  // the component's own value
+    EXPECT_DOUBLE_EQ(hv(1, G + nx - 1 + l, j, k), hv(1, G + nx - 1, j, k) + 3.0 * 0.1 * l);
+    EXPECT_EQ(hv(1, G + 1, G - l, k), -hv(1, G + 1, G - 1 + l, k));  // normal component: sign changes
+    EXPECT_EQ(hv(1, G + 1, j, G - l), hv(1, G + 1, j, G - 1 + l));   // tangential at z-: mirrored
+    EXPECT_EQ(hp(G + 1, j, G + g.cells[2] - 1 + l), -1.0);           // z+ Dirichlet
+    EXPECT_NE(hv(0, G - l, j, k), 8.0);                              // other slots untouched
+    EXPECT_EQ(hv(0, G - l, j, k), hv1(0, G - l, j, k));
   }
 }

@@ -24,19 +24,54 @@ struct Bc {
 /// The six faces in the order x-, x+, y-, y+, z-, z+ (face = 2 d + side).
 using FaceBcs = Kokkos::Array<Bc, 6>;
 
-/// Fill every extra-cell layer of materials [m_begin, m_end) of `q` on the domain
-/// faces this patch touches. `component` is -1 for a scalar, else the vector component
-/// q holds (0, 1, 2). Directions are swept x, y, z, each over the extra cells already
-/// filled, so edges and corners get values too. One launch per face for all the
-/// materials.
-inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanaged>& q,
-                             int m_begin, int m_end, const Patch& patch, const FaceBcs& bcs,
-                             int component) {
+using UnmanagedField4 = Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanaged>;
+
+/// One field whose extra cells `fill_extra_cells` fills: materials [m_begin, m_end) of
+/// q, the conditions on its six faces, and the vector component q holds (-1 for a
+/// scalar).
+struct ExtraCells {
+  UnmanagedField4 q;
+  int m_begin = 0, m_end = 0;
+  FaceBcs bcs;
+  int component = -1;
+  ExtraCells() = default;
+  ExtraCells(const UnmanagedField4& field, int first, int end, const FaceBcs& conditions, int comp)
+      : q(field), m_begin(first), m_end(end), bcs(conditions), component(comp) {}
+  /// Material m of a per-material field.
+  ExtraCells(const Field4& field, int m, const FaceBcs& conditions, int comp)
+      : ExtraCells(field, m, m + 1, conditions, comp) {}
+  /// Every material of a per-material field.
+  ExtraCells(const Field4& field, const FaceBcs& conditions, int comp)
+      : ExtraCells(field, 0, int(field.extent(0)), conditions, comp) {}
+  /// A material-independent field.
+  ExtraCells(const Field3& field, const FaceBcs& conditions, int comp)
+      : ExtraCells(UnmanagedField4(field.data(), 1, field.extent(0), field.extent(1), field.extent(2)), 0, 1,
+                   conditions, comp) {}
+};
+
+namespace detail {
+/// What one face's launch of `fill_extra_cells` needs of a field.
+struct FaceFill {
+  UnmanagedField4 q;
+  int m_begin, m_end;
+  BcKind kind;
+  double value;        ///< the Dirichlet value, or the Neumann gradient
+  double mirror_sign;  ///< -1 for the normal component at a symmetry face
+};
+}  // namespace detail
+
+/// Fill every extra-cell layer of the `fields` on the domain faces this patch touches.
+/// Directions are swept x, y, z, each over the extra cells already filled, so edges
+/// and corners get values too. One launch per face for all the fields and materials:
+/// the fields are independent, and a launch costs more than a face's few cells in a
+/// small or quasi-1D problem (the piston's 1 x 100 x 1 cells have 25 extra cells for
+/// each inside one).
+template <std::size_t N>
+void fill_extra_cells(const Kokkos::Array<ExtraCells, N>& fields, const Patch& patch) {
   const int G = patch.ghosts;
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
       if (!patch.on_domain_boundary(d, side)) continue;
-      const Bc bc = bcs[2 * d + side];
       const int n = patch.owned_cells(d);
       IndexBox box = patch.owned_cells();
       for (int e = 0; e < d; ++e) {  // directions already swept carry their extra cells
@@ -47,8 +82,13 @@ inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::Me
       box.lo[d] = side == 0 ? 0 : G + n;
       box.hi[d] = side == 0 ? G : 2 * G + n;
       const double h = patch.grid.spacing[d];
-      const double value = bc.value[component < 0 ? 0 : component];
-      const double mirror_sign = (bc.kind == BcKind::symmetry && component == d) ? -1.0 : 1.0;
+      Kokkos::Array<detail::FaceFill, N> face;
+      for (std::size_t f = 0; f < N; ++f) {
+        const ExtraCells& e = fields[f];
+        const Bc bc = e.bcs[2 * d + side];
+        face[f] = {e.q, e.m_begin, e.m_end, bc.kind, bc.value[e.component < 0 ? 0 : e.component],
+                   (bc.kind == BcKind::symmetry && e.component == d) ? -1.0 : 1.0};
+      }
       // Rows (i, j) of the slab, k innermost (for_each_index): no index division per
       // cell, which the flat loop over the slab spent most of its time on.
       for_each_index("mpmice::fill_extra_cells", box, KOKKOS_LAMBDA(long i, long j, long k) {
@@ -62,35 +102,42 @@ inline void fill_extra_cells(const Kokkos::View<double****, MemSpace, Kokkos::Me
         if (mm < G) mm = G;
         if (mm > G + n - 1) mm = G + n - 1;
         mirror[d] = mm;
-        for (int m = m_begin; m < m_end; ++m) {
-          double out;
-          if (bc.kind == BcKind::dirichlet)
-            out = value;
-          else if (bc.kind == BcKind::symmetry)
-            out = mirror_sign * q(m, mirror[0], mirror[1], mirror[2]);
-          else
-            out = q(m, adjacent[0], adjacent[1], adjacent[2]) + value * h * l;
-          q(m, i, j, k) = out;
-        }
+        unrolled_for<int(N)>([&](int f) {
+          const detail::FaceFill& ff = face[f];
+          for (int m = ff.m_begin; m < ff.m_end; ++m) {
+            double out;
+            if (ff.kind == BcKind::dirichlet)
+              out = ff.value;
+            else if (ff.kind == BcKind::symmetry)
+              out = ff.mirror_sign * ff.q(m, mirror[0], mirror[1], mirror[2]);
+            else
+              out = ff.q(m, adjacent[0], adjacent[1], adjacent[2]) + ff.value * h * l;
+            ff.q(m, i, j, k) = out;
+          }
+        });
       });
     }
 }
 
+/// Fill the extra cells of one field (`ExtraCells` says which materials, conditions
+/// and component).
+inline void fill_extra_cells(const ExtraCells& field, const Patch& patch) {
+  fill_extra_cells(Kokkos::Array<ExtraCells, 1>{field}, patch);
+}
+
 /// Fill the extra cells of material m of a per-material field.
 inline void fill_extra_cells(const Field4& q, int m, const Patch& patch, const FaceBcs& bcs, int component) {
-  fill_extra_cells(q, m, m + 1, patch, bcs, component);
+  fill_extra_cells(ExtraCells(q, m, bcs, component), patch);
 }
 
 /// Fill the extra cells of every material of a per-material field.
 inline void fill_extra_cells(const Field4& q, const Patch& patch, const FaceBcs& bcs, int component) {
-  fill_extra_cells(q, 0, int(q.extent(0)), patch, bcs, component);
+  fill_extra_cells(ExtraCells(q, bcs, component), patch);
 }
 
 /// Fill the extra cells of a material-independent field.
 inline void fill_extra_cells(const Field3& q, const Patch& patch, const FaceBcs& bcs, int component) {
-  const Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanaged> q4(q.data(), 1, q.extent(0), q.extent(1),
-                                                                         q.extent(2));
-  fill_extra_cells(q4, 0, 1, patch, bcs, component);
+  fill_extra_cells(ExtraCells(q, bcs, component), patch);
 }
 
 /// Normal velocity on the domain-boundary faces of direction d (E19's face BCs):
