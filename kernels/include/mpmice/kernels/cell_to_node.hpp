@@ -3,20 +3,49 @@
 /// \brief Cell-to-node averages (E11): the pressure on the nodes (Step 11) and the
 ///        Lagrangian cell rates of the MPM materials carried to their nodes (E34).
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
 
 /// p_i = (1/8) sum of the 8 cells around node i (E11), on `nodes`.
 inline void pressure_to_nodes(const IndexBox& nodes, const ConstField3& press, const Field3& press_node) {
-  Kokkos::parallel_for(
-      "mpmice::pressure_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double s = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) s += press(i - a, j - b, k - c);
-        press_node(i, j, k) = 0.125 * s;
-      });
+  for_each_index("mpmice::pressure_to_nodes", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+    double s = 0;
+    unrolled_for<8>([&](int n) { s += press(i - (n >> 2), j - ((n >> 1) & 1), k - (n & 1)); });
+    press_node(i, j, k) = 0.125 * s;
+  });
 }
+
+namespace detail {
+template <bool Transfer>
+void cell_rates_to_nodes_n(const IndexBox& nodes, int s, double dt, const ConstVectorField4& cell_acc,
+                           const ConstField4& cell_temp_rate, const VectorField4& vel_star, const VectorField4& acc,
+                           const Field4& temp_rate, const Field4& transfer_energy) {
+  for_each_index("mpmice::cell_rates_to_nodes", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+    double av[3] = {0, 0, 0}, at = 0, square = 0;
+    // The 8 cells (i - a, j - b, k - c), a outermost, c innermost.
+    unrolled_for<8>([&](int n) {
+      const long ci = i - (n >> 2), cj = j - ((n >> 1) & 1), ck = k - (n & 1);
+      unrolled_for<3>([&](int d) {
+        const double rate = cell_acc[d](s, ci, cj, ck);
+        av[d] += rate;
+        square += rate * rate;
+      });
+      at += cell_temp_rate(s, ci, cj, ck);
+    });
+    double mean2 = 0;
+    unrolled_for<3>([&](int d) {
+      const double dv = dt * 0.125 * av[d];
+      vel_star[d](s, i, j, k) += dv;
+      acc[d](s, i, j, k) += 0.125 * av[d];
+      mean2 += dv * dv;
+    });
+    temp_rate(s, i, j, k) = 0.125 * at;
+    if constexpr (Transfer) transfer_energy(s, i, j, k) = 0.5 * 0.125 * dt * dt * square - mean2;
+  });
+}
+}  // namespace detail
 
 /// (E34) for node slot s: v*_i += dt (1/8) sum aV, a_i += (1/8) sum aV,
 /// aT_i = (1/8) sum aT over the 8 cells around node i (cell rates in slot s). With
@@ -42,30 +71,10 @@ inline void cell_rates_to_nodes(const IndexBox& nodes, int s, double dt, const C
                                 const ConstField4& cell_temp_rate, const VectorField4& vel_star,
                                 const VectorField4& acc, const Field4& temp_rate,
                                 const Field4& transfer_energy = Field4()) {
-  const bool transfer = transfer_energy.data() != nullptr;
-  Kokkos::parallel_for(
-      "mpmice::cell_rates_to_nodes", nodes.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double av[3] = {0, 0, 0}, at = 0, square = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) {
-              for (int d = 0; d < 3; ++d) {
-                const double rate = cell_acc[d](s, i - a, j - b, k - c);
-                av[d] += rate;
-                square += rate * rate;
-              }
-              at += cell_temp_rate(s, i - a, j - b, k - c);
-            }
-        double mean2 = 0;
-        for (int d = 0; d < 3; ++d) {
-          const double dv = dt * 0.125 * av[d];
-          vel_star[d](s, i, j, k) += dv;
-          acc[d](s, i, j, k) += 0.125 * av[d];
-          mean2 += dv * dv;
-        }
-        temp_rate(s, i, j, k) = 0.125 * at;
-        if (transfer) transfer_energy(s, i, j, k) = 0.5 * 0.125 * dt * dt * square - mean2;
-      });
+  with_flag(transfer_energy.data() != nullptr, [&](auto transfer) {
+    detail::cell_rates_to_nodes_n<decltype(transfer)::value>(nodes, s, dt, cell_acc, cell_temp_rate, vel_star, acc,
+                                                             temp_rate, transfer_energy);
+  });
 }
 
 }  // namespace mpmice

@@ -80,24 +80,27 @@ inline void add_product_sources(const IndexBox& cells, const MaterialTable& mats
                                 const ConstVectorField4& mom_source, const ConstField4& energy_source,
                                 const ConstVectorField4& vel, const ConstField4& temp, const Field4& mass_L,
                                 const VectorField4& mom_L, const Field4& int_eng_L, const Field4& temp_mixed) {
-  Kokkos::parallel_for(
-      "mpmice::add_product_sources", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        for (int m = 0; m < mats.count; ++m) {
-          const double dm = mass_source(m, i, j, k);
-          const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
-          double kinetic_gain = 0;
-          for (int d = 0; d < 3; ++d) {
-            const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
-            kinetic_gain += dm > 0 ? 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k))
-                                   : 0.0;
-            mom_L[d](m, i, j, k) += dp;
-          }
-          const double de = energy_source(m, i, j, k) - kinetic_gain;
-          mass_L(m, i, j, k) = old_mass + dm;
-          int_eng_L(m, i, j, k) += de;
-          temp_mixed(m, i, j, k) = dm > 0 ? (old_mass * cv * t + de) / ((old_mass + dm) * cv) : t;
-        }
+  with_material_count(mats.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    for_each_index("mpmice::add_product_sources", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+      unrolled_for<N>([&](int m) {
+        const double dm = mass_source(m, i, j, k);
+        const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
+        double kinetic_gain = 0;
+        unrolled_for<3>([&](int d) {
+          const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
+          const double gain = 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k));
+          kinetic_gain += dm > 0 ? gain : 0.0;
+          mom_L[d](m, i, j, k) += dp;
+        });
+        const double de = energy_source(m, i, j, k) - kinetic_gain;
+        mass_L(m, i, j, k) = old_mass + dm;
+        int_eng_L(m, i, j, k) += de;
+        const double mixed = (old_mass * cv * t + de) / ((old_mass + dm) * cv);
+        temp_mixed(m, i, j, k) = dm > 0 ? mixed : t;
       });
+    });
+  });
 }
 
 }  // namespace mpmice

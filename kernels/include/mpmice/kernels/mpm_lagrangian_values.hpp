@@ -5,8 +5,42 @@
 ///        the cell-centred rates the nodes have not seen yet (E33).
 #include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/grid.hpp>
+#include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 
 namespace mpmice {
+
+namespace detail {
+template <bool Rigid>
+void mpm_lagrangian_values_n(const IndexBox& cells, double cell_volume, int s, int m, double cv,
+                             const ConstField3& weight, const ConstField4& node_mass,
+                             const ConstVectorField4& node_vel_star, const ConstField4& node_temp,
+                             const ConstField4& rho, const ConstVectorField4& vel, const ConstField4& temp,
+                             const ConstVectorField4& mom_source, const VectorField4& mom_L, const Field4& int_eng_L) {
+  const double m_small = tiny_rho * cell_volume;
+  for_each_index("mpmice::mpm_lagrangian_values", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    const double mass = rho(m, i, j, k) * cell_volume;
+    if constexpr (Rigid) {  // its cell mass comes from its particles, its velocity is prescribed
+      for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k);
+      int_eng_L(m, i, j, k) = mass * cv * temp(m, i, j, k);
+    } else {
+      double p_mpm[3] = {0, 0, 0}, e_mpm = 0;
+      // The 8 nodes (i + a, j + b, k + c), a outermost, c innermost.
+      unrolled_for<8>([&](int n) {
+        const long ni = i + (n >> 2), nj = j + ((n >> 1) & 1), nk = k + (n & 1);
+        const double wm = weight(ni, nj, nk) * node_mass(s, ni, nj, nk);
+        unrolled_for<3>([&](int d) { p_mpm[d] += wm * node_vel_star[d](s, ni, nj, nk); });
+        e_mpm += wm * cv * node_temp(s, ni, nj, nk);
+      });
+      const double z = (mass - m_small) / mass;
+      unrolled_for<3>([&](int d) {
+        mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + mom_source[d](m, i, j, k));
+      });
+      int_eng_L(m, i, j, k) = (1.0 - z) * mass * cv * temp(m, i, j, k) + z * e_mpm;
+    }
+  });
+}
+}  // namespace detail
 
 /// (E27) for node slot s, cell material m: P_mpm = sum_i w_i m_i v*_i + Q_r,
 /// E_mpm = sum_i w_i m_i c_v T*_i (+ W_r = 0), blended with the cell's own
@@ -18,27 +52,11 @@ inline void mpm_lagrangian_values(const IndexBox& cells, double cell_volume, int
                                   const ConstField4& rho, const ConstVectorField4& vel, const ConstField4& temp,
                                   const ConstVectorField4& mom_source, const VectorField4& mom_L,
                                   const Field4& int_eng_L) {
-  const double m_small = tiny_rho * cell_volume;
-  Kokkos::parallel_for(
-      "mpmice::mpm_lagrangian_values", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double p_mpm[3] = {0, 0, 0}, e_mpm = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) {
-              const double wm = weight(i + a, j + b, k + c) * node_mass(s, i + a, j + b, k + c);
-              for (int d = 0; d < 3; ++d) p_mpm[d] += wm * node_vel_star[d](s, i + a, j + b, k + c);
-              e_mpm += wm * cv * node_temp(s, i + a, j + b, k + c);
-            }
-        const double mass = rho(m, i, j, k) * cell_volume;
-        if (rigid) {  // its cell mass comes from its particles, its velocity is prescribed
-          for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k);
-          int_eng_L(m, i, j, k) = mass * cv * temp(m, i, j, k);
-          return;
-        }
-        const double z = (mass - m_small) / mass;
-        for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + mom_source[d](m, i, j, k));
-        int_eng_L(m, i, j, k) = (1.0 - z) * mass * cv * temp(m, i, j, k) + z * e_mpm;
-      });
+  with_flag(rigid, [&](auto is_rigid) {
+    detail::mpm_lagrangian_values_n<decltype(is_rigid)::value>(cells, cell_volume, s, m, cv, weight, node_mass,
+                                                               node_vel_star, node_temp, rho, vel, temp, mom_source,
+                                                               mom_L, int_eng_L);
+  });
 }
 
 /// (E33) for cell material m into rate slot s: aV = (PME - (PL - Q))/(mL dt) (0 for a
@@ -48,15 +66,15 @@ inline void mpm_cell_rates(const IndexBox& cells, double dt, int s, int m, doubl
                            const ConstField4& mass_L, const ConstVectorField4& mom_L, const ConstField4& int_eng_L,
                            const ConstVectorField4& mom_source, const ConstVectorField4& vel_me,
                            const ConstField4& temp_me, const VectorField4& cell_acc, const Field4& cell_temp_rate) {
-  Kokkos::parallel_for(
-      "mpmice::mpm_cell_rates", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        const double mass = mass_L(m, i, j, k);
-        for (int d = 0; d < 3; ++d)
-          cell_acc[d](s, i, j, k) =
-              rigid ? 0.0
-                    : (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
-        cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
-      });
+  for_each_index("mpmice::mpm_cell_rates", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    const double mass = mass_L(m, i, j, k);
+    unrolled_for<3>([&](int d) {
+      const double rate =
+          (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
+      cell_acc[d](s, i, j, k) = rigid ? 0.0 : rate;
+    });
+    cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
+  });
 }
 
 }  // namespace mpmice

@@ -6,6 +6,7 @@
 #include <mpmice/kernels/boundary_conditions.hpp>
 #include <mpmice/kernels/constants.hpp>
 #include <mpmice/kernels/eos.hpp>
+#include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 
 namespace mpmice {
@@ -43,24 +44,23 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
                          const ConstField3& press, const Field4& rho, const VectorField4& vel,
                          const Field4& temp, const Field4& sp_vol) {
   const double m_small = tiny_rho * cell_volume;
-  Kokkos::parallel_for(
-      "mpmice::node_to_cell", cells.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-        double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) {
-              const double wm = weight(i + a, j + b, k + c) * node_mass(s, i + a, j + b, k + c);
-              mass += wm;
-              for (int d = 0; d < 3; ++d) mom[d] += wm * node_vel[d](s, i + a, j + b, k + c);
-              heat += wm * node_temp(s, i + a, j + b, k + c);
-            }
-        const double z = (mass - m_small) / mass;
-        const double t = (1.0 - z) * temp(m, i, j, k) + z * heat / mass;
-        temp(m, i, j, k) = t;
-        for (int d = 0; d < 3; ++d) vel[d](m, i, j, k) = mom[d] / mass;
-        rho(m, i, j, k) = mass / cell_volume;
-        sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), t);
-      });
+  for_each_index("mpmice::node_to_cell", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
+    // The 8 nodes (i + a, j + b, k + c), a outermost, c innermost.
+    unrolled_for<8>([&](int n) {
+      const long ni = i + (n >> 2), nj = j + ((n >> 1) & 1), nk = k + (n & 1);
+      const double wm = weight(ni, nj, nk) * node_mass(s, ni, nj, nk);
+      mass += wm;
+      unrolled_for<3>([&](int d) { mom[d] += wm * node_vel[d](s, ni, nj, nk); });
+      heat += wm * node_temp(s, ni, nj, nk);
+    });
+    const double z = (mass - m_small) / mass;
+    const double t = (1.0 - z) * temp(m, i, j, k) + z * heat / mass;
+    temp(m, i, j, k) = t;
+    unrolled_for<3>([&](int d) { vel[d](m, i, j, k) = mom[d] / mass; });
+    rho(m, i, j, k) = mass / cell_volume;
+    sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), t);
+  });
 }
 
 /// The heaviest particle of a set (0 if empty): the driver makes it global and takes
