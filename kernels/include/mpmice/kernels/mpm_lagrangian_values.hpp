@@ -66,14 +66,18 @@ inline void mpm_cell_rates(const IndexBox& cells, double dt, int s, int m, doubl
                            const ConstField4& mass_L, const ConstVectorField4& mom_L, const ConstField4& int_eng_L,
                            const ConstVectorField4& mom_source, const ConstVectorField4& vel_me,
                            const ConstField4& temp_me, const VectorField4& cell_acc, const Field4& cell_temp_rate) {
-  for_each_index("mpmice::mpm_cell_rates", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-    const double mass = mass_L(m, i, j, k);
-    unrolled_for<3>([&](int d) {
-      const double rate =
-          (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
-      cell_acc[d](s, i, j, k) = rigid ? 0.0 : rate;
+  with_flag(rigid, [&](auto is_rigid) {
+    constexpr bool Rigid = decltype(is_rigid)::value;
+    for_each_index("mpmice::mpm_cell_rates", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+      const double mass = mass_L(m, i, j, k);
+      unrolled_for<3>([&](int d) {
+        double rate = 0.0;
+        if constexpr (!Rigid)
+          rate = (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
+        cell_acc[d](s, i, j, k) = rate;
+      });
+      cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
     });
-    cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
   });
 }
 

@@ -16,13 +16,17 @@ void momentum_source_n(const IndexBox& cells, const Patch& patch, double dt, con
                        const VectorField4& mom_source) {
   const double ax = patch.grid.face_area(0), ay = patch.grid.face_area(1), az = patch.grid.face_area(2),
                vol = patch.grid.cell_volume();
+  // Gravity's factor per material, V or 0: a select on the captured flags kept the
+  // loop scalar.
+  Kokkos::Array<double, max_materials> gravity_volume;
+  for (int m = 0; m < max_materials; ++m) gravity_volume[m] = gravity_on[m] ? vol : 0.0;
   for_each_index("mpmice::momentum_source", cells, KOKKOS_LAMBDA(long i, long j, long k) {
     const double fx = (press_face[0](i + 1, j, k) - press_face[0](i, j, k)) * ax;
     const double fy = (press_face[1](i, j + 1, k) - press_face[1](i, j, k)) * ay;
     const double fz = (press_face[2](i, j, k + 1) - press_face[2](i, j, k)) * az;
     unrolled_for<N>([&](int m) {
       const double theta = vol_frac(m, i, j, k);
-      const double w = gravity_on[m] ? rho(m, i, j, k) * vol : 0.0;
+      const double w = rho(m, i, j, k) * gravity_volume[m];
       mom_source[0](m, i, j, k) = dt * (-theta * fx + w * gravity[0]);
       mom_source[1](m, i, j, k) = dt * (-theta * fy + w * gravity[1]);
       mom_source[2](m, i, j, k) = dt * (-theta * fz + w * gravity[2]);
