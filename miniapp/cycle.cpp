@@ -279,12 +279,11 @@ void Cycle::add_particle_to_grid_steps() {
       "node_velocity", cat<FieldRead>({{{"mass_NC", 0}, {"heat_NC", 0}}, vec("mom_NC", 0)}),
       cat<FieldWrite>({vec_out("vel_NC"), {{"temp_NC"}}}), [=](const StepContext& ctx) {
         const auto vel = write_vec(ctx, "vel_NC");
-        for (int s = 0; s < ns; ++s) {
+        for (int s = 0; s < ns; ++s)
           node_velocity_temperature(nodes, s, ctx.read<Field4>("mass_NC"), read_vec(ctx, "mom_NC"),
                                     ctx.read<Field4>("heat_NC"), vel, ctx.write<Field4>("temp_NC"));
-          // Symmetry planes: no normal velocity (Step 1's node conditions).
-          node_symmetry(p, nodes, s, velocity_bcs, vel);
-        }
+        // Symmetry planes: no normal velocity (Step 1's node conditions).
+        node_symmetry(p, nodes, ns, velocity_bcs, vel);
       }});
 }
 
@@ -394,7 +393,7 @@ void Cycle::add_pressure_steps() {
           const IndexBox faces = faces_around_cells(p, d);
           face_velocity(faces, d, h[d], dt, gravity[d], mats, ctx.read<Field3>("press_equil_CC"),
                         ctx.read<Field4>("rho_CC"), ctx.read<Field4>("sp_vol_equil_CC"), vel[d], out[d]);
-          for (int m = 0; m < n; ++m) set_boundary_face_velocity(out[d], m, d, p, bc.velocity, faces);
+          set_boundary_face_velocity(out[d], d, p, bc.velocity, faces);
         }
       }});
 
@@ -408,7 +407,7 @@ void Cycle::add_pressure_steps() {
           const IndexBox faces = faces_around_cells(p, d);
           face_exchange(faces, d, dt, mats, ctx.read<Field4>("vol_frac_CC"),
                         ctx.read<Field4>("sp_vol_equil_CC"), in[d], out[d]);
-          for (int m = 0; m < n; ++m) set_boundary_face_velocity(out[d], m, d, p, bc.velocity, faces);
+          set_boundary_face_velocity(out[d], d, p, bc.velocity, faces);
         }
       }});
 
@@ -779,13 +778,13 @@ void Cycle::add_particle_update_steps() {
   const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
   const bool heat = m_pb.has_cells();
   const double& dt = m_dt;
+  Kokkos::Array<int, max_materials> deformable;  // the node conditions act on all but rigid bodies
+  for (int s = 0; s < max_materials; ++s) deformable[s] = s < ns && m_pb.solids[s].type != SolidModelType::rigid;
   m_steps.push_back(Step{"node_boundary_conditions", {},
                          cat<FieldWrite>({vec_out("vel_NC"), vec_out("vel_star_NC"), vec_out("acc_NC")}),
                          [=, &dt](const StepContext& ctx) {
-                           for (int s = 0; s < ns; ++s)
-                             if (m_pb.solids[s].type != SolidModelType::rigid)
-                               node_velocity_bcs(p, nodes, s, dt, velocity_bcs, write_vec(ctx, "vel_NC"),
-                                                 write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
+                           node_velocity_bcs(p, nodes, ns, deformable, dt, velocity_bcs, write_vec(ctx, "vel_NC"),
+                                             write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"));
                          }});
   Reads g2p_reads = cat<FieldRead>({vec("vel_star_NC", 1), vec("acc_NC", 1)});
   if (heat) {

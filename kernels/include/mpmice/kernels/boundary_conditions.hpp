@@ -140,12 +140,13 @@ inline void fill_extra_cells(const Field3& q, const Patch& patch, const FaceBcs&
   fill_extra_cells(ExtraCells(q, bcs, component), patch);
 }
 
-/// Normal velocity on the domain-boundary faces of direction d (E19's face BCs):
-/// Dirichlet faces get the normal component of the boundary velocity, symmetry faces
-/// 0, Neumann faces keep the computed value. `faces` bounds the tangential extent.
-inline void set_boundary_face_velocity(const Field4& face_vel, int m, int d, const Patch& patch,
+/// Normal velocity on the domain-boundary faces of direction d (E19's face BCs), for
+/// every material of `face_vel` in one launch per face: Dirichlet faces get the normal
+/// component of the boundary velocity, symmetry faces 0, Neumann faces keep the
+/// computed value. `faces` bounds the tangential extent.
+inline void set_boundary_face_velocity(const Field4& face_vel, int d, const Patch& patch,
                                        const FaceBcs& velocity_bcs, const IndexBox& faces) {
-  const int G = patch.ghosts;
+  const int G = patch.ghosts, materials = int(face_vel.extent(0));
   for (int side = 0; side < 2; ++side) {
     if (!patch.on_domain_boundary(d, side)) continue;
     const Bc bc = velocity_bcs[2 * d + side];
@@ -154,9 +155,9 @@ inline void set_boundary_face_velocity(const Field4& face_vel, int m, int d, con
     IndexBox box = faces;
     box.lo[d] = side == 0 ? G : G + patch.owned_cells(d);
     box.hi[d] = box.lo[d] + 1;
-    Kokkos::parallel_for(
-        "mpmice::boundary_face_velocity", box.policy(),
-        KOKKOS_LAMBDA(int i, int j, int k) { face_vel(m, i, j, k) = value; });
+    for_each_index("mpmice::boundary_face_velocity", box, KOKKOS_LAMBDA(long i, long j, long k) {
+      for (int m = 0; m < materials; ++m) face_vel(m, i, j, k) = value;
+    });
   }
 }
 

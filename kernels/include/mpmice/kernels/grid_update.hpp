@@ -42,8 +42,8 @@ inline void grid_acceleration(const IndexBox& nodes, int m, double dt, Kokkos::A
 }
 
 /// Zero normal velocity on the node layers at and beyond each symmetry face (the
-/// Step 1 node condition on v_i).
-inline void node_symmetry(const Patch& patch, const IndexBox& nodes, int m, const FaceBcs& bcs,
+/// Step 1 node condition on v_i), for node slots [0, slots) in one launch per face.
+inline void node_symmetry(const Patch& patch, const IndexBox& nodes, int slots, const FaceBcs& bcs,
                           const VectorField4& vel) {
   const int G = patch.ghosts;
   for (int d = 0; d < 3; ++d)
@@ -54,18 +54,21 @@ inline void node_symmetry(const Patch& patch, const IndexBox& nodes, int m, cons
       box.lo[d] = side == 0 ? 0 : G + n;
       box.hi[d] = side == 0 ? G + 1 : 2 * G + n + 1;
       const Field4 v = vel[d];
-      Kokkos::parallel_for(
-          "mpmice::node_symmetry", box.policy(), KOKKOS_LAMBDA(int i, int j, int k) { v(m, i, j, k) = 0.0; });
+      for_each_index("mpmice::node_symmetry", box, KOKKOS_LAMBDA(long i, long j, long k) {
+        for (int m = 0; m < slots; ++m) v(m, i, j, k) = 0.0;
+      });
     }
 }
 
 /// Velocity conditions on the node layers at and beyond each domain face: symmetry
 /// zeroes the normal component, Dirichlet sets the value (fixed: 0), Neumann leaves
 /// the node free. Where a condition acts the acceleration becomes (v* - v)/dt, with
-/// v the node velocity of Step 1 (Step 20). `nodes` bounds the tangential extent.
-inline void node_velocity_bcs(const Patch& patch, const IndexBox& nodes, int m, double dt,
-                              const FaceBcs& bcs, const VectorField4& vel,
-                              const VectorField4& vel_star, const VectorField4& acc) {
+/// v the node velocity of Step 1 (Step 20). `nodes` bounds the tangential extent. For
+/// the node slots m < `slots` with `applies[m]` set (not the rigid bodies), in one
+/// launch per face.
+inline void node_velocity_bcs(const Patch& patch, const IndexBox& nodes, int slots,
+                              const Kokkos::Array<int, max_materials>& applies, double dt, const FaceBcs& bcs,
+                              const VectorField4& vel, const VectorField4& vel_star, const VectorField4& acc) {
   const int G = patch.ghosts;
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
@@ -76,19 +79,21 @@ inline void node_velocity_bcs(const Patch& patch, const IndexBox& nodes, int m, 
       const int n = patch.owned_cells(d);
       box.lo[d] = side == 0 ? 0 : G + n;           // the boundary node layer and beyond
       box.hi[d] = side == 0 ? G + 1 : 2 * G + n + 1;
-      Kokkos::parallel_for(
-          "mpmice::node_velocity_bcs", box.policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-            if (bc.kind == BcKind::symmetry) {
-              vel[d](m, i, j, k) = 0.0;
-              vel_star[d](m, i, j, k) = 0.0;
-              acc[d](m, i, j, k) = 0.0;
-            } else {
-              for (int c = 0; c < 3; ++c) {
-                vel_star[c](m, i, j, k) = bc.value[c];
-                acc[c](m, i, j, k) = (bc.value[c] - vel[c](m, i, j, k)) / dt;
-              }
+      for_each_index("mpmice::node_velocity_bcs", box, KOKKOS_LAMBDA(long i, long j, long k) {
+        for (int m = 0; m < slots; ++m) {
+          if (!applies[m]) continue;
+          if (bc.kind == BcKind::symmetry) {
+            vel[d](m, i, j, k) = 0.0;
+            vel_star[d](m, i, j, k) = 0.0;
+            acc[d](m, i, j, k) = 0.0;
+          } else {
+            for (int c = 0; c < 3; ++c) {
+              vel_star[c](m, i, j, k) = bc.value[c];
+              acc[c](m, i, j, k) = (bc.value[c] - vel[c](m, i, j, k)) / dt;
             }
-          });
+          }
+        }
+      });
     }
 }
 
