@@ -257,18 +257,37 @@ TEST(Transfer, GimpWeightsAgreeBetweenKernels) { weights_agree_test<GimpShape>()
 // it must give bit for bit what adding one particle at a time gives: runs of many,
 // one and no particles, runs broken by an unsorted tail, and trace particles whose far
 // nodes' share of the mass rounds to zero (skipped by both).
-// Positions in runs of one cell for the cell-run tests: 0 to 11 particles in each cell
-// of g in cell order, then the last quarter shuffled.
-std::vector<std::array<double, 3>> cell_run_positions(const Grid& g, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+// Particles for the cell-run tests: 0 to 11 in each cell of the patch in cell order,
+// the last quarter shuffled (runs of many, one and no particles, and an unsorted tail).
+// Every column is 0 but the position, the mass (every 7th particle a trace of 2e-12 kg,
+// whose far nodes' share of the mass rounds to zero, else 0.5 to 1.5 kg) and the volume
+// (0.5e-4 to 1.5e-4 m^3); `more(h, p, u)` sets particle p's other columns in the host
+// copy h from uniform draws u() in [0, 1).
+template <class More>
+ParticleSet cell_run_particles(const Patch& patch, std::mt19937_64& rng, const More& more) {
+  const Grid& g = patch.grid;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  auto u = [&] { return uniform(rng); };
   std::vector<std::array<double, 3>> at;
   for (int i = 0; i < g.cells[0]; ++i)
     for (int j = 0; j < g.cells[1]; ++j)
       for (int k = 0; k < g.cells[2]; ++k)
-        for (int c = int(u(rng) * 12); c > 0; --c)
-          at.push_back({(i + u(rng)) * g.spacing[0], (j + u(rng)) * g.spacing[1], (k + u(rng)) * g.spacing[2]});
+        for (int c = int(u() * 12); c > 0; --c)
+          at.push_back({(i + u()) * g.spacing[0], (j + u()) * g.spacing[1], (k + u()) * g.spacing[2]});
   std::shuffle(at.begin() + long(at.size()) * 3 / 4, at.end(), rng);
-  return at;
+  const long n = long(at.size());
+  ParticleSet ps("solid", n);
+  ps.resize(n);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  for (long p = 0; p < n; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+    for (int d = 0; d < 3; ++d) h(p, column(ParticleField::x) + d) = at[p][d];
+    h(p, column(ParticleField::mass)) = p % 7 == 0 ? 2e-12 : 0.5 + u();
+    h(p, column(ParticleField::volume)) = 1e-4 * (0.5 + u());
+    more(h, p, u);
+  }
+  Kokkos::deep_copy(ps.data(), h);
+  return ps;
 }
 
 // The number of entries where two fields differ (bit for bit; NaN never equal).
@@ -284,24 +303,14 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
   const Patch patch = whole_patch({6, 5, 4}, {0.1, 0.2, 0.1});
   const NodeGrid grid = node_grid(patch);
   std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const std::vector<std::array<double, 3>> at = cell_run_positions(patch.grid, rng);
-  const long n = long(at.size());
-  ParticleSet ps("solid", n);
-  ps.resize(n);
-  auto h = Kokkos::create_mirror_view(ps.data());
-  for (long p = 0; p < n; ++p) {
-    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+  const ParticleSet ps = cell_run_particles(patch, rng, [](auto& h, long p, auto& u) {
     for (int d = 0; d < 3; ++d) {
-      h(p, column(ParticleField::x) + d) = at[p][d];
-      h(p, column(ParticleField::vx) + d) = u(rng) - 0.5;
-      h(p, column(ParticleField::fext_x) + d) = u(rng) - 0.5;
+      h(p, column(ParticleField::vx) + d) = u() - 0.5;
+      h(p, column(ParticleField::fext_x) + d) = u() - 0.5;
     }
-    h(p, column(ParticleField::mass)) = p % 7 == 0 ? 2e-12 : 0.5 + u(rng);  // every 7th a trace
-    h(p, column(ParticleField::temperature)) = 300 + 100 * u(rng);
-    h(p, column(ParticleField::volume)) = 1e-4 * (0.5 + u(rng));
-  }
-  Kokkos::deep_copy(ps.data(), h);
+    h(p, column(ParticleField::temperature)) = 300 + 100 * u();
+  });
+  const long n = long(ps.size());
   SumQuanta q = quanta_for(particle_scatter_bounds(n, ps.data()));
   q.mass = quantum_for(1.5);
 
@@ -322,9 +331,11 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
   long skipped = 0;
   for (int f = 0; f < 9; ++f) EXPECT_EQ(differing_entries(a[f], b[f]), 0) << "field " << f;
   // The trace particles' far nodes were skipped: some node share rounds to zero.
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
   for (long p = 0; p < n; p += 7) {
-    double half[3] = {0, 0, 0};
-    const ParticleWeights<LinearShape> wt(at[p].data(), grid.origin, grid.inv_h, grid.first_node, half);
+    double x[3], half[3];
+    particle_position(h, p, x, half);
+    const ParticleWeights<LinearShape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     for (int i = 0; i < 8; ++i)
       skipped += Quantum(q.mass).round(wt.weight(i >> 2, (i >> 1) & 1, i & 1) * 2e-12) == 0.0;
   }
@@ -655,27 +666,17 @@ TEST(InternalForce, LinearCellRunsAddAsOneParticleAtATime) {
   const Patch patch = whole_patch({6, 5, 4}, {0.1, 0.2, 0.1});
   const NodeGrid grid = node_grid(patch);
   std::mt19937_64 rng(29);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const std::vector<std::array<double, 3>> at = cell_run_positions(patch.grid, rng);
-  const long n = long(at.size());
-  ParticleSet ps("solid", n);
-  ps.resize(n);
-  auto h = Kokkos::create_mirror_view(ps.data());
-  for (long p = 0; p < n; ++p) {
-    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
-    for (int d = 0; d < 3; ++d) h(p, column(ParticleField::x) + d) = at[p][d];
-    h(p, column(ParticleField::mass)) = p % 7 == 0 ? 2e-12 : 0.5 + u(rng);  // every 7th a trace
-    h(p, column(ParticleField::volume)) = 1e-4 * (0.5 + u(rng));
-    h(p, column(ParticleField::gas_pressure)) = 1e5 * u(rng);
-    h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u(rng);
+  const ParticleSet ps = cell_run_particles(patch, rng, [](auto& h, long p, auto& u) {
+    h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
+    h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
     for (int a = 0; a < 3; ++a)
       for (int b = a; b < 3; ++b) {
-        const double v = 1e8 * (u(rng) - 0.5);
+        const double v = 1e8 * (u() - 0.5);
         h(p, tensor_column(ParticleField::s00, a, b)) = v;
         h(p, tensor_column(ParticleField::s00, b, a)) = v;
       }
-  }
-  Kokkos::deep_copy(ps.data(), h);
+  });
+  const long n = long(ps.size());
   SumQuanta q;
   q.mass = quantum_for(1.5);
   q.internal_force = quantum_for(internal_force_bound(grid, n, ps.data()));
