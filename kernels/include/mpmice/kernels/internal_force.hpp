@@ -89,15 +89,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
       for (int d = 0; d < 3; ++d)
         for (int a = 0; a < N; ++a) units[d][a] = 0.0;
     };
-    for (long p = lo; p < hi; ++p) {
-      double x[3], half[3];
-      particle_position(data, p, x, half);
-      const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-      const long first = rows.at(wt.first);
-      if (first != run_first) {
-        add_run();
-        run_first = first;
-      }
+    over_cell_runs<Shape>(grid, rows, data, lo, hi, run_first, add_run, [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
       const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
       // The forces in quanta, vectorised over the nodes (a long index and doubles for
@@ -138,8 +130,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         units[1][a] += (a == heaviest ? given1 : 0.0) - force[1][a];
         units[2][a] += (a == heaviest ? given2 : 0.0) - force[2][a];
       }
-    }
-    add_run();
+    });
   });
 }
 }  // namespace detail

@@ -100,6 +100,29 @@ KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shap
   gz = wa * wb * dc;
 }
 
+/// The particle loop of a scatter by cell runs (p2g_cell_runs,
+/// internal_force_cell_runs) over particles [lo, hi): each particle's weights and its
+/// first node's row in the block; `add_run()` adds the run's sums into the nodes from
+/// `run_first` and is called before the first particle of another cell and at the end;
+/// `add(p, wt)` adds particle p into the run's sums.
+template <class Shape, class AddRun, class Add>
+KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const NodeStencil<Shape::nodes>& rows,
+                                                const ParticleData& data, long lo, long hi, long& run_first,
+                                                const AddRun& add_run, const Add& add) {
+  for (long p = lo; p < hi; ++p) {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const long first = rows.at(wt.first);
+    if (first != run_first) {
+      add_run();
+      run_first = first;
+    }
+    add(p, wt);
+  }
+  add_run();
+}
+
 /// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
 /// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
 /// particles' contributions in registers, vectorised over its 8 nodes, and adds the
@@ -128,15 +151,8 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       for (int f = 0; f < F; ++f)
         for (int a = 0; a < N; ++a) units[f][a] = 0.0;
     };
-    for (long p = lo; p < hi; ++p) {
-      double x[3], half[3], value[F];
-      particle_position(data, p, x, half);
-      const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-      const long first = rows.at(wt.first);
-      if (first != run_first) {
-        add_run();
-        run_first = first;
-      }
+    over_cell_runs<Shape>(grid, rows, data, lo, hi, run_first, add_run, [&](long p, const ParticleWeights<Shape>& wt) {
+      double value[F];
       p2g_values(data, p, value);
       // A vector loop over the nodes, without branches (Quantum::in_units), and a
       // double, not a bool, choosing the kept nodes: either kept GCC 12 from
@@ -151,8 +167,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
         units[0][a] += mass;
         unrolled_for<F - 1>([&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
       }
-    }
-    add_run();
+    });
   });
 }
 }  // namespace detail
