@@ -318,11 +318,11 @@ void Cycle::add_node_to_cell_step() {
           // the faces' density and temperature conditions are the fluids'. (A Dirichlet
           // density there would advect solid volume fraction in through an inflow.)
           const FaceBcs inside = mirror_or_zero_gradient(bc.velocity);
-          fill_extra_cells(Kokkos::Array<ExtraCells, 6>{ExtraCells(rho, m, inside, -1), ExtraCells(temp, m, inside, -1),
-                                                        ExtraCells(sp_vol, m, inside, -1),
-                                                        ExtraCells(vel[0], m, bc.velocity, 0),
-                                                        ExtraCells(vel[1], m, bc.velocity, 1),
-                                                        ExtraCells(vel[2], m, bc.velocity, 2)},
+          fill_extra_cells(Kokkos::Array<ExtraCellFill, 6>{ExtraCellFill(rho, m, inside, -1), ExtraCellFill(temp, m, inside, -1),
+                                                        ExtraCellFill(sp_vol, m, inside, -1),
+                                                        ExtraCellFill(vel[0], m, bc.velocity, 0),
+                                                        ExtraCellFill(vel[1], m, bc.velocity, 1),
+                                                        ExtraCellFill(vel[2], m, bc.velocity, 2)},
                            p);
         }
       }});
@@ -642,10 +642,10 @@ void Cycle::add_lagrangian_steps() {
                  ctx.read<Field4>("int_eng_L_CC"), ctx.read<Field4>("sp_vol_equil_CC"),
                  ctx.read<Field4>("vol_frac_CC"), ctx.read<Field4>(temp_before), vel, temp,
                  ctx.write<Field4>("Tdot_CC"));
-        fill_extra_cells(Kokkos::Array<ExtraCells, 4>{ExtraCells(vel[0], bc.velocity, 0),
-                                                      ExtraCells(vel[1], bc.velocity, 1),
-                                                      ExtraCells(vel[2], bc.velocity, 2),
-                                                      ExtraCells(temp, bc.temperature, -1)},
+        fill_extra_cells(Kokkos::Array<ExtraCellFill, 4>{ExtraCellFill(vel[0], bc.velocity, 0),
+                                                      ExtraCellFill(vel[1], bc.velocity, 1),
+                                                      ExtraCellFill(vel[2], bc.velocity, 2),
+                                                      ExtraCellFill(temp, bc.temperature, -1)},
                          p);
       }});
 
@@ -746,10 +746,10 @@ void Cycle::add_lagrangian_steps() {
           mpm_cell_rates(owned, dt, s, m, mats.eos[m].cv, mats.is_rigid(m), ctx.read<Field4>("mass_L_CC"),
                          read_vec(ctx, "mom_L_CC"), ctx.read<Field4>("int_eng_L_CC"), read_vec(ctx, "mom_source_CC"),
                          read_vec(ctx, "vel_ME_CC"), ctx.read<Field4>("temp_ME_CC"), acc, rate);
-          fill_extra_cells(Kokkos::Array<ExtraCells, 4>{ExtraCells(acc[0], s, rate_bcs, 0),
-                                                        ExtraCells(acc[1], s, rate_bcs, 1),
-                                                        ExtraCells(acc[2], s, rate_bcs, 2),
-                                                        ExtraCells(rate, s, rate_bcs, -1)},
+          fill_extra_cells(Kokkos::Array<ExtraCellFill, 4>{ExtraCellFill(acc[0], s, rate_bcs, 0),
+                                                        ExtraCellFill(acc[1], s, rate_bcs, 1),
+                                                        ExtraCellFill(acc[2], s, rate_bcs, 2),
+                                                        ExtraCellFill(rate, s, rate_bcs, -1)},
                            p);
         }
       }});

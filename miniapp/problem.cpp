@@ -280,12 +280,12 @@ void fill_state_extra_cells(Problem& pb, const std::string& suffix) {
   for (int f = 0; f < 6; ++f)
     if (sp_vol_bc[f].kind == BcKind::dirichlet) sp_vol_bc[f].value[0] = 1.0 / bc.density[f].value[0];
   fill_extra_cells(
-      Kokkos::Array<ExtraCells, 7>{
-          ExtraCells(pb.fields.get<Field4>("rho_CC" + suffix), bc.density, -1),
-          ExtraCells(pb.fields.get<Field4>("temp_CC" + suffix), bc.temperature, -1),
-          ExtraCells(pb.fields.get<Field4>("sp_vol_CC" + suffix), sp_vol_bc, -1), ExtraCells(vel[0], bc.velocity, 0),
-          ExtraCells(vel[1], bc.velocity, 1), ExtraCells(vel[2], bc.velocity, 2),
-          ExtraCells(pb.fields.get<Field3>("press_CC" + suffix), bc.pressure, -1)},
+      Kokkos::Array<ExtraCellFill, 7>{
+          ExtraCellFill(pb.fields.get<Field4>("rho_CC" + suffix), bc.density, -1),
+          ExtraCellFill(pb.fields.get<Field4>("temp_CC" + suffix), bc.temperature, -1),
+          ExtraCellFill(pb.fields.get<Field4>("sp_vol_CC" + suffix), sp_vol_bc, -1), ExtraCellFill(vel[0], bc.velocity, 0),
+          ExtraCellFill(vel[1], bc.velocity, 1), ExtraCellFill(vel[2], bc.velocity, 2),
+          ExtraCellFill(pb.fields.get<Field3>("press_CC" + suffix), bc.pressure, -1)},
       p);
 }
 

@@ -625,13 +625,17 @@ TEST(BoundaryConditions, ExtraCellsOfSeveralFieldsInOneLaunch) {
   };
   const Field4 a1 = copy(a), vy1 = copy(vy);
   const Field3 p1 = copy(p);
+  // p has its own conditions: zero gradient everywhere but a Dirichlet z+ of -1.
+  FaceBcs p_bcs;
+  p_bcs[5].kind = BcKind::dirichlet;
+  p_bcs[5].value[0] = -1.0;
   // Slot 1 of vy only: slots 0 and 2 must keep their random extra cells.
-  fill_extra_cells(Kokkos::Array<ExtraCells, 3>{ExtraCells(a, bcs, -1), ExtraCells(vy, 1, bcs, 1),
-                                                ExtraCells(p, bcs, -1)},
+  fill_extra_cells(Kokkos::Array<ExtraCellFill, 3>{ExtraCellFill(a, bcs, -1), ExtraCellFill(vy, 1, bcs, 1),
+                                                   ExtraCellFill(p, p_bcs, -1)},
                    patch);
   fill_extra_cells(a1, patch, bcs, -1);
   fill_extra_cells(vy1, 1, patch, bcs, 1);
-  fill_extra_cells(p1, patch, bcs, -1);
+  fill_extra_cells(p1, patch, p_bcs, -1);
   auto host = [](auto field) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), field); };
   const auto ha = host(a), ha1 = host(a1), hv = host(vy), hv1 = host(vy1);
   const auto hp = host(p), hp1 = host(p1);
@@ -651,7 +655,18 @@ TEST(BoundaryConditions, ExtraCellsOfSeveralFieldsInOneLaunch) {
     EXPECT_EQ(hv(1, G + 1, G - l, k), -hv(1, G + 1, G - 1 + l, k));  // normal component: sign changes
     EXPECT_EQ(hv(1, G + 1, j, G - l), hv(1, G + 1, j, G - 1 + l));   // tangential at z-: mirrored
     EXPECT_EQ(hp(G + 1, j, G + g.cells[2] - 1 + l), -1.0);           // z+ Dirichlet
-    EXPECT_NE(hv(0, G - l, j, k), 8.0);                              // other slots untouched
-    EXPECT_EQ(hv(0, G - l, j, k), hv1(0, G - l, j, k));
+    EXPECT_EQ(hp(G - l, j, k), hp(G, j, k));                          // its own x-: zero gradient
+    EXPECT_EQ(hv(0, G - l, j, k), hv1(0, G - l, j, k));               // other slots untouched
   }
+  // Edges: x is swept first, then y over x's extra cells. The x- Dirichlet value reaches
+  // the y- extra cells by the mirror, with the sign of the normal component changed.
+  for (int l = 1; l <= G; ++l)
+    for (int e = 1; e <= G; ++e) {
+      EXPECT_EQ(ha(0, G - l, G - e, k), 7.0);
+      EXPECT_EQ(hv(1, G - l, G - e, k), -8.0);
+    }
+  // The other slots of vy kept their random extra cells.
+  long kept = 0;
+  for (std::size_t i = 0; i < hv.extent(1); ++i) kept += hv(0, i, j, k) == hv1(0, i, j, k);
+  EXPECT_EQ(kept, long(hv.extent(1)));
 }

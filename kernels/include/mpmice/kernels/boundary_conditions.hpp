@@ -29,23 +29,23 @@ using UnmanagedField4 = Kokkos::View<double****, MemSpace, Kokkos::MemoryUnmanag
 /// One field whose extra cells `fill_extra_cells` fills: materials [m_begin, m_end) of
 /// q, the conditions on its six faces, and the vector component q holds (-1 for a
 /// scalar).
-struct ExtraCells {
+struct ExtraCellFill {
   UnmanagedField4 q;
   int m_begin = 0, m_end = 0;
   FaceBcs bcs;
   int component = -1;
-  ExtraCells() = default;
-  ExtraCells(const UnmanagedField4& field, int first, int end, const FaceBcs& conditions, int comp)
+  ExtraCellFill() = default;
+  ExtraCellFill(const UnmanagedField4& field, int first, int end, const FaceBcs& conditions, int comp)
       : q(field), m_begin(first), m_end(end), bcs(conditions), component(comp) {}
   /// Material m of a per-material field.
-  ExtraCells(const Field4& field, int m, const FaceBcs& conditions, int comp)
-      : ExtraCells(field, m, m + 1, conditions, comp) {}
+  ExtraCellFill(const Field4& field, int m, const FaceBcs& conditions, int comp)
+      : ExtraCellFill(field, m, m + 1, conditions, comp) {}
   /// Every material of a per-material field.
-  ExtraCells(const Field4& field, const FaceBcs& conditions, int comp)
-      : ExtraCells(field, 0, int(field.extent(0)), conditions, comp) {}
+  ExtraCellFill(const Field4& field, const FaceBcs& conditions, int comp)
+      : ExtraCellFill(field, 0, int(field.extent(0)), conditions, comp) {}
   /// A material-independent field.
-  ExtraCells(const Field3& field, const FaceBcs& conditions, int comp)
-      : ExtraCells(UnmanagedField4(field.data(), 1, field.extent(0), field.extent(1), field.extent(2)), 0, 1,
+  ExtraCellFill(const Field3& field, const FaceBcs& conditions, int comp)
+      : ExtraCellFill(UnmanagedField4(field.data(), 1, field.extent(0), field.extent(1), field.extent(2)), 0, 1,
                    conditions, comp) {}
 };
 
@@ -67,7 +67,7 @@ struct FaceFill {
 /// small or quasi-1D problem (the piston's 1 x 100 x 1 cells have 25 extra cells for
 /// each inside one).
 template <std::size_t N>
-void fill_extra_cells(const Kokkos::Array<ExtraCells, N>& fields, const Patch& patch) {
+void fill_extra_cells(const Kokkos::Array<ExtraCellFill, N>& fields, const Patch& patch) {
   const int G = patch.ghosts;
   for (int d = 0; d < 3; ++d)
     for (int side = 0; side < 2; ++side) {
@@ -84,7 +84,7 @@ void fill_extra_cells(const Kokkos::Array<ExtraCells, N>& fields, const Patch& p
       const double h = patch.grid.spacing[d];
       Kokkos::Array<detail::FaceFill, N> face;
       for (std::size_t f = 0; f < N; ++f) {
-        const ExtraCells& e = fields[f];
+        const ExtraCellFill& e = fields[f];
         const Bc bc = e.bcs[2 * d + side];
         face[f] = {e.q, e.m_begin, e.m_end, bc.kind, bc.value[e.component < 0 ? 0 : e.component],
                    (bc.kind == BcKind::symmetry && e.component == d) ? -1.0 : 1.0};
@@ -119,25 +119,25 @@ void fill_extra_cells(const Kokkos::Array<ExtraCells, N>& fields, const Patch& p
     }
 }
 
-/// Fill the extra cells of one field (`ExtraCells` says which materials, conditions
+/// Fill the extra cells of one field (`ExtraCellFill` says which materials, conditions
 /// and component).
-inline void fill_extra_cells(const ExtraCells& field, const Patch& patch) {
-  fill_extra_cells(Kokkos::Array<ExtraCells, 1>{field}, patch);
+inline void fill_extra_cells(const ExtraCellFill& field, const Patch& patch) {
+  fill_extra_cells(Kokkos::Array<ExtraCellFill, 1>{field}, patch);
 }
 
 /// Fill the extra cells of material m of a per-material field.
 inline void fill_extra_cells(const Field4& q, int m, const Patch& patch, const FaceBcs& bcs, int component) {
-  fill_extra_cells(ExtraCells(q, m, bcs, component), patch);
+  fill_extra_cells(ExtraCellFill(q, m, bcs, component), patch);
 }
 
 /// Fill the extra cells of every material of a per-material field.
 inline void fill_extra_cells(const Field4& q, const Patch& patch, const FaceBcs& bcs, int component) {
-  fill_extra_cells(ExtraCells(q, bcs, component), patch);
+  fill_extra_cells(ExtraCellFill(q, bcs, component), patch);
 }
 
 /// Fill the extra cells of a material-independent field.
 inline void fill_extra_cells(const Field3& q, const Patch& patch, const FaceBcs& bcs, int component) {
-  fill_extra_cells(ExtraCells(q, bcs, component), patch);
+  fill_extra_cells(ExtraCellFill(q, bcs, component), patch);
 }
 
 /// Normal velocity on the domain-boundary faces of direction d (E19's face BCs), for

@@ -67,8 +67,9 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 /// are not always bit for bit those of internal_force_each_particle: GCC fuses a
 /// different product of sigma . grad S into an FMA in the vector loop than in the
 /// scalar one, so a force within an ulp of half a quantum can round to the other
-/// neighbour (one contribution in a 300-step container run with linear shapes). Test:
-/// `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
+/// neighbour (one contribution in a 300-step container run with linear shapes). Without
+/// quanta the sums' order differs too (a node gets given - f, not -f then + given), so
+/// they change at round-off. Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
 template <class Shape>
 void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,

@@ -59,6 +59,33 @@ inline void lagrangian_momentum_energy(const IndexBox& cells, const MaterialTabl
   });
 }
 
+namespace detail {
+template <int N>
+void add_product_sources_n(const IndexBox& cells, const MaterialTable& mats, const ConstField4& mass_source,
+                           const ConstVectorField4& mom_source, const ConstField4& energy_source,
+                           const ConstVectorField4& vel, const ConstField4& temp, const Field4& mass_L,
+                           const VectorField4& mom_L, const Field4& int_eng_L, const Field4& temp_mixed) {
+  for_each_index("mpmice::add_product_sources", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    unrolled_for<N>([&](int m) {
+      const double dm = mass_source(m, i, j, k);
+      const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
+      double kinetic_gain = 0;
+      unrolled_for<3>([&](int d) {
+        const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
+        const double gain = 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k));
+        kinetic_gain += dm > 0 ? gain : 0.0;
+        mom_L[d](m, i, j, k) += dp;
+      });
+      const double de = energy_source(m, i, j, k) - kinetic_gain;
+      mass_L(m, i, j, k) = old_mass + dm;
+      int_eng_L(m, i, j, k) += de;
+      const double mixed = (old_mass * cv * t + de) / ((old_mass + dm) * cv);
+      temp_mixed(m, i, j, k) = dm > 0 ? mixed : t;
+    });
+  });
+}
+}  // namespace detail
+
 /// (E30) for the products of a reaction: mL_r += dm_r, PL_r += dP_r, EL_r += dE_r on
 /// `cells` for every material (the sources are zero but in the products' slots). The
 /// products only gain (dm_r >= 0), so (E30)'s floors at TINY_RHO V never act; the
@@ -81,25 +108,8 @@ inline void add_product_sources(const IndexBox& cells, const MaterialTable& mats
                                 const ConstVectorField4& vel, const ConstField4& temp, const Field4& mass_L,
                                 const VectorField4& mom_L, const Field4& int_eng_L, const Field4& temp_mixed) {
   with_material_count(mats.count, [&](auto n) {
-    constexpr int N = decltype(n)::value;
-    for_each_index("mpmice::add_product_sources", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-      unrolled_for<N>([&](int m) {
-        const double dm = mass_source(m, i, j, k);
-        const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
-        double kinetic_gain = 0;
-        unrolled_for<3>([&](int d) {
-          const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
-          const double gain = 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k));
-          kinetic_gain += dm > 0 ? gain : 0.0;
-          mom_L[d](m, i, j, k) += dp;
-        });
-        const double de = energy_source(m, i, j, k) - kinetic_gain;
-        mass_L(m, i, j, k) = old_mass + dm;
-        int_eng_L(m, i, j, k) += de;
-        const double mixed = (old_mass * cv * t + de) / ((old_mass + dm) * cv);
-        temp_mixed(m, i, j, k) = dm > 0 ? mixed : t;
-      });
-    });
+    detail::add_product_sources_n<decltype(n)::value>(cells, mats, mass_source, mom_source, energy_source, vel, temp,
+                                                      mass_L, mom_L, int_eng_L, temp_mixed);
   });
 }
 

@@ -124,7 +124,9 @@ void over_particle_runs(const std::string& label, long count, const Run& run) {
 /// after inlining (materials and small solves written out with `unrolled_for`) and
 /// indexes its views with `long` (an `int` index converted to the view's size_t
 /// offset defeats its stride analysis); it does not vectorise through an MDRange's
-/// tiles. Kernels whose body cannot vectorise keep `IndexBox::policy()`.
+/// tiles. A body that cannot vectorise (a loop over a run-time number of slots, a
+/// library call) still gains the rows' long indices and no tile bookkeeping; some
+/// such kernels keep `IndexBox::policy()`.
 template <class F>
 void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 #if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)

@@ -20,7 +20,9 @@ void mpm_lagrangian_values_n(const IndexBox& cells, double cell_volume, int s, i
   const double m_small = tiny_rho * cell_volume;
   for_each_index("mpmice::mpm_lagrangian_values", cells, KOKKOS_LAMBDA(long i, long j, long k) {
     const double mass = rho(m, i, j, k) * cell_volume;
-    if constexpr (Rigid) {  // its cell mass comes from its particles, its velocity is prescribed
+    // A plain `if` on the template argument (folded at compile time): nvcc cannot
+    // capture a variable first named inside `if constexpr`.
+    if (Rigid) {  // its cell mass comes from its particles, its velocity is prescribed
       for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k);
       int_eng_L(m, i, j, k) = mass * cv * temp(m, i, j, k);
     } else {
@@ -59,6 +61,24 @@ inline void mpm_lagrangian_values(const IndexBox& cells, double cell_volume, int
   });
 }
 
+namespace detail {
+template <bool Rigid>
+void mpm_cell_rates_n(const IndexBox& cells, double dt, int s, int m, double cv, const ConstField4& mass_L,
+                      const ConstVectorField4& mom_L, const ConstField4& int_eng_L,
+                      const ConstVectorField4& mom_source, const ConstVectorField4& vel_me, const ConstField4& temp_me,
+                      const VectorField4& cell_acc, const Field4& cell_temp_rate) {
+  for_each_index("mpmice::mpm_cell_rates", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    const double mass = mass_L(m, i, j, k);
+    unrolled_for<3>([&](int d) {
+      const double rate =
+          (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
+      cell_acc[d](s, i, j, k) = Rigid ? 0.0 : rate;  // folded at compile time
+    });
+    cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
+  });
+}
+}  // namespace detail
+
 /// (E33) for cell material m into rate slot s: aV = (PME - (PL - Q))/(mL dt) (0 for a
 /// rigid material), aT = (EME - (EL - W))/(mL c_v dt) with PME = mL u_ME,
 /// EME = mL c_v T_ME, W = 0 for solids.
@@ -67,17 +87,8 @@ inline void mpm_cell_rates(const IndexBox& cells, double dt, int s, int m, doubl
                            const ConstVectorField4& mom_source, const ConstVectorField4& vel_me,
                            const ConstField4& temp_me, const VectorField4& cell_acc, const Field4& cell_temp_rate) {
   with_flag(rigid, [&](auto is_rigid) {
-    constexpr bool Rigid = decltype(is_rigid)::value;
-    for_each_index("mpmice::mpm_cell_rates", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-      const double mass = mass_L(m, i, j, k);
-      unrolled_for<3>([&](int d) {
-        double rate = 0.0;
-        if constexpr (!Rigid)
-          rate = (mass * vel_me[d](m, i, j, k) - (mom_L[d](m, i, j, k) - mom_source[d](m, i, j, k))) / (mass * dt);
-        cell_acc[d](s, i, j, k) = rate;
-      });
-      cell_temp_rate(s, i, j, k) = (mass * cv * temp_me(m, i, j, k) - int_eng_L(m, i, j, k)) / (mass * cv * dt);
-    });
+    detail::mpm_cell_rates_n<decltype(is_rigid)::value>(cells, dt, s, m, cv, mass_L, mom_L, int_eng_L, mom_source,
+                                                        vel_me, temp_me, cell_acc, cell_temp_rate);
   });
 }
 
