@@ -12,7 +12,7 @@ namespace mpmice {
 inline void pressure_to_nodes(const IndexBox& nodes, const ConstField3& press, const Field3& press_node) {
   for_each_index("mpmice::pressure_to_nodes", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
     double s = 0;
-    unrolled_for<8>([&](int n) { s += press(i - (n >> 2), j - ((n >> 1) & 1), k - (n & 1)); });
+    unrolled_for<8>([&](int n) { s += press(i - corner(n, 0), j - corner(n, 1), k - corner(n, 2)); });
     press_node(i, j, k) = 0.125 * s;
   });
 }
@@ -26,7 +26,7 @@ void cell_rates_to_nodes_n(const IndexBox& nodes, int s, double dt, const ConstV
     double av[3] = {0, 0, 0}, at = 0, square = 0;
     // The 8 cells (i - a, j - b, k - c), a outermost, c innermost.
     unrolled_for<8>([&](int n) {
-      const long ci = i - (n >> 2), cj = j - ((n >> 1) & 1), ck = k - (n & 1);
+      const long ci = i - corner(n, 0), cj = j - corner(n, 1), ck = k - corner(n, 2);
       unrolled_for<3>([&](int d) {
         const double rate = cell_acc[d](s, ci, cj, ck);
         av[d] += rate;

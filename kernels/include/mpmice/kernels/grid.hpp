@@ -122,4 +122,8 @@ inline Patch whole_grid_patch(const Grid& grid, int ghosts) {
   return p;
 }
 
+/// Offset (0 or 1) along direction d of corner n = 4a + 2b + c of the 2 x 2 x 2 nodes
+/// of a cell, or cells around a node: a (x) outermost, c (z) innermost.
+KOKKOS_FORCEINLINE_FUNCTION constexpr long corner(int n, int d) { return (n >> (2 - d)) & 1; }
+
 }  // namespace mpmice

@@ -7,6 +7,7 @@
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
+#include <mpmice/kernels/node_to_cell.hpp>
 
 namespace mpmice {
 
@@ -26,14 +27,8 @@ void mpm_lagrangian_values_n(const IndexBox& cells, double cell_volume, int s, i
       for (int d = 0; d < 3; ++d) mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k);
       int_eng_L(m, i, j, k) = mass * cv * temp(m, i, j, k);
     } else {
-      double p_mpm[3] = {0, 0, 0}, e_mpm = 0;
-      // The 8 nodes (i + a, j + b, k + c), a outermost, c innermost.
-      unrolled_for<8>([&](int n) {
-        const long ni = i + (n >> 2), nj = j + ((n >> 1) & 1), nk = k + (n & 1);
-        const double wm = weight(ni, nj, nk) * node_mass(s, ni, nj, nk);
-        unrolled_for<3>([&](int d) { p_mpm[d] += wm * node_vel_star[d](s, ni, nj, nk); });
-        e_mpm += wm * cv * node_temp(s, ni, nj, nk);
-      });
+      double node_mass_sum = 0, p_mpm[3] = {0, 0, 0}, e_mpm = 0;  // the mass sum is not used
+      add_weighted_node_sums(weight, node_mass, node_vel_star, node_temp, s, i, j, k, cv, node_mass_sum, p_mpm, e_mpm);
       const double z = (mass - m_small) / mass;
       unrolled_for<3>([&](int d) {
         mom_L[d](m, i, j, k) = (1.0 - z) * mass * vel[d](m, i, j, k) + z * (p_mpm[d] + mom_source[d](m, i, j, k));

@@ -33,6 +33,22 @@ inline void node_cell_weights(const Patch& patch, const FaceBcs& velocity_bcs, c
       });
 }
 
+/// Adds over the 8 nodes of cell (i, j, k), a outermost, c innermost, for node slot s:
+/// sum w m to `mass`, sum w m v to `mom`, sum w m c T to `heat` (w the node's weight
+/// of E10; E13, E27).
+KOKKOS_FORCEINLINE_FUNCTION void add_weighted_node_sums(const ConstField3& weight, const ConstField4& node_mass,
+                                                        const ConstVectorField4& node_vel,
+                                                        const ConstField4& node_temp, int s, long i, long j, long k,
+                                                        double c, double& mass, double* mom, double& heat) {
+  unrolled_for<8>([&](int n) {
+    const long ni = i + corner(n, 0), nj = j + corner(n, 1), nk = k + corner(n, 2);
+    const double wm = weight(ni, nj, nk) * node_mass(s, ni, nj, nk);
+    mass += wm;
+    unrolled_for<3>([&](int d) { mom[d] += wm * node_vel[d](s, ni, nj, nk); });
+    heat += wm * c * node_temp(s, ni, nj, nk);
+  });
+}
+
 /// (E13) for MPM node slot s, cell material m: m_r = m_small + sum_i w_i m_i,
 /// u_r = sum w m v / m_r, T_r = (1 - z) T_r^n + z sum w m T / m_r with
 /// z = (m_r - m_small)/m_r, rho_r = m_r / V. The specific volume is set from the
@@ -46,14 +62,7 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
   const double m_small = tiny_rho * cell_volume;
   for_each_index("mpmice::node_to_cell", cells, KOKKOS_LAMBDA(long i, long j, long k) {
     double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
-    // The 8 nodes (i + a, j + b, k + c), a outermost, c innermost.
-    unrolled_for<8>([&](int n) {
-      const long ni = i + (n >> 2), nj = j + ((n >> 1) & 1), nk = k + (n & 1);
-      const double wm = weight(ni, nj, nk) * node_mass(s, ni, nj, nk);
-      mass += wm;
-      unrolled_for<3>([&](int d) { mom[d] += wm * node_vel[d](s, ni, nj, nk); });
-      heat += wm * node_temp(s, ni, nj, nk);
-    });
+    add_weighted_node_sums(weight, node_mass, node_vel, node_temp, s, i, j, k, 1.0, mass, mom, heat);
     const double z = (mass - m_small) / mass;
     const double t = (1.0 - z) * temp(m, i, j, k) + z * heat / mass;
     temp(m, i, j, k) = t;
