@@ -68,14 +68,14 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
           double g[3];
           wt.gradient(a, b, c, g);
           for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
-          if constexpr (Heat) ts += S * t_node(o);
-          if constexpr (Transfer) qs += S * q_node(o);
+          if (Heat) ts += S * t_node(o);
+          if (Transfer) qs += S * q_node(o);
           for (int d = 0; d < 3; ++d) {
             const double v = v_node[d](o);
             vs[d] += S * v;
             const double an = a_node[d](o);
             as[d] += S * an;
-            if constexpr (Transfer) a2s += S * an * an;
+            if (Transfer) a2s += S * an * an;
             for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
           }
         });
@@ -87,7 +87,7 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
       data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
     }
     double& T = data(p, column(ParticleField::temperature));
-    if constexpr (Transfer) {
+    if (Transfer) {
       // The transfers' heat (cell_rates_to_nodes: q_i; |D_i|^2 from the accelerations
       // here) and the work of (E24)'s isotropic part pp - q on the particle's volume,
       // V (pp - q) tr(L) dt, which is neither strain energy nor received by a fluid (the

@@ -18,7 +18,7 @@ void grid_acceleration_n(const IndexBox& nodes, int m, double dt, Kokkos::Array<
     const double inv = 1.0 / mass(m, i, j, k);
     for (int d = 0; d < 3; ++d) {
       double a = 0.0;
-      if constexpr (!Rigid)
+      if (!Rigid)
         a = (fint[d](m, i, j, k) + fext[d](m, i, j, k)) * inv + gravity[d] - damping * vel[d](m, i, j, k);
       acc[d](m, i, j, k) = a;
       vel_star[d](m, i, j, k) = vel[d](m, i, j, k) + dt * a;

@@ -22,7 +22,7 @@ void pressure_update_n(const IndexBox& cells, double cell_volume, const ConstFie
         double adv = 0, mx = 0;
         unrolled_for<N>([&](int m) {
           adv += adv_vol_frac(m, i, j, k);
-          if constexpr (WithMass) mx += mass_source(m, i, j, k) * sp_vol(m, i, j, k);
+          if (WithMass) mx += mass_source(m, i, j, k) * sp_vol(m, i, j, k);
         });
         const double sk = sum_kappa(i, j, k);
         const double dp_dil = adv / sk;

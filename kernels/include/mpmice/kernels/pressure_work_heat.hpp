@@ -58,7 +58,7 @@ double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3
         // A rigid body's prescribed motion works from outside on its cells and, through
         // their faces, on the cells next to them: no balance there.
         double rigid_nearby = 0;  // the largest rigid volume fraction here and next door
-        if constexpr (HasRigid) {
+        if (HasRigid) {
           unrolled_for<N>([&](int r) {
             double theta = f.vol_frac(r, i, j, k);
             unrolled_for<3>([&](int d) {

@@ -66,7 +66,7 @@ long lagrangian_specific_volume_n(const IndexBox& cells, double cell_volume, dou
                       dt * cell_volume * (theta * alpha[r] * in.temp_rate(r, i, j, k) - theta * kap / sk * x);
           // A reaction's new mass takes dm_r v_new, and every material gives up its share
           // of that volume by the increment dP_mx it causes (E20): sum_r of both is zero.
-          if constexpr (WithMass)
+          if (WithMass)
             vl += in.mass_source(r, i, j, k) * in.source_sp_vol(r, i, j, k) -
                   theta * kap * cell_volume * in.del_p_mass(i, j, k);
           const double floor = floor_scale * v;
