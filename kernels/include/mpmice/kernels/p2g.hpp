@@ -45,13 +45,16 @@ inline Kokkos::Array<Quantum, p2g_fields> p2g_quanta(const SumQuanta& q) {
 }
 
 /// p2g's scatter for shapes whose nodes differ between particles of one cell (GIMP):
-/// particle by particle, node by node. A node whose share of the mass rounds to zero
-/// gets nothing at all, so that no node has momentum or force without mass
-/// (internal_force skips it too).
+/// particle by particle, node by node, a node's 8 fields after the mass as one vector
+/// operation (1.3-1.5x against field by field, docs/performance.md, session 15). A node
+/// whose share of the mass rounds to zero gets nothing at all, so that no node has
+/// momentum or force without mass (internal_force skips it too).
 template <class Shape>
 void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                        const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, F = p2g_fields;
+  const QuantumArray<F> quanta(quantum);
+  const Quantum mass_quantum = quantum[0];
   scatter_from_particles("mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
     double x[3], half[3], value[F];
     particle_position(data, p, x, half);
@@ -63,9 +66,13 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
           const double S = wt.weight(a, b, c);
-          if (quantum[0].round(S * value[0]) == 0.0) return;
+          const double mass = mass_quantum.in_units(S * value[0]);
+          if (mass == 0.0) return;
           const long row = first + rows.step(a, b, c);
-          for (int f = 0; f < F; ++f) node(row, f) += quantum[f].round(S * value[f]);
+          node(row, 0) += mass_quantum.unit * mass;
+          // The other 8 fields: one 8-wide vector operation where the CPU has it.
+          MPMICE_PRAGMA_SIMD
+          for (int f = 1; f < F; ++f) node(row, f) += quanta.round(f, S * value[f]);
         });
       });
     });

@@ -50,6 +50,25 @@ struct Quantum {
   }
 };
 
+/// F quanta part by part (a structure of arrays), so that a loop over them is a vector
+/// loop: `round(f, x)` is Quantum(f).round(x) bit for bit, as unit times in_units.
+template <int F>
+struct QuantumArray {
+  Kokkos::Array<double, F> scale, half, unrounded, unit;
+  explicit QuantumArray(const Kokkos::Array<Quantum, F>& q) {
+    for (int f = 0; f < F; ++f) {
+      scale[f] = q[f].scale;
+      half[f] = q[f].half;
+      unrounded[f] = q[f].unrounded;
+      unit[f] = q[f].unit;
+    }
+  }
+  KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const {
+    const double t = x * scale[f] + half[f];
+    return unit[f] * (unrounded[f] != 0.0 ? t : math::floor(t));
+  }
+};
+
 /// x rounded to the nearest multiple of q (x itself if q = 0). The reciprocal is the
 /// same for every particle of a loop, where the compiler hoists it out (no division per
 /// contribution); a loop over several quanta kept in an array takes `Quantum`s, whose
