@@ -7,13 +7,17 @@
 ///        out a short loop whose length is known at compile time (a cell's materials,
 ///        a small solve's rows, a particle's nodes). Together they let
 ///        the compiler vectorise a kernel across cells or particles (docs/design.md,
-///        "Cell loops that vectorise").
+///        "Cell loops that vectorise"). Their bodies must be `KOKKOS_LAMBDA`s: on a GPU
+///        they run on the device, and nvcc lets the helpers wrap them in lambdas of
+///        their own only when they are extended (device) lambdas.
 #include <string>
 #include <utility>
 
 #include <mpmice/kernels/types.hpp>
 
-#if defined(_OPENMP)
+// `omp simd` on the host only: never in a GPU backend's device pass (a CUDA or HIP
+// build with OpenMP on the host defines _OPENMP there too).
+#if defined(_OPENMP) && !defined(__CUDA_ARCH__) && !defined(__HIP_DEVICE_COMPILE__) && !defined(__SYCL_DEVICE_ONLY__)
 #define MPMICE_PRAGMA_SIMD _Pragma("omp simd")
 #else
 #define MPMICE_PRAGMA_SIMD

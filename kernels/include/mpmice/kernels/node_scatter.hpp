@@ -14,21 +14,38 @@
 
 namespace mpmice {
 
+/// How the scatter adds: on the host each thread into its own copy (duplicated, also
+/// for Serial, whose ScatterView default is not), on a GPU atomically into one block.
+/// Chosen here, not left to Kokkos's default, because `copies()` reads them differently.
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+using ScatterDuplication = Kokkos::Experimental::ScatterNonDuplicated;
+#else
+using ScatterDuplication = Kokkos::Experimental::ScatterDuplicated;
+#endif
+
 /// The one scatter: Kokkos's ScatterView over a block (row, field) with a row per node,
 /// (i, j, k) at row (i n_j + j) n_k + k (`block_stencil`). A particle finds a node's row
-/// once for all its fields. On OpenMP each thread adds into its own copy (duplicated);
-/// on a GPU the adds are atomic into one block (docs/performance.md, bench_scatter.cpp).
+/// once for all its fields. On the host each thread adds into its own copy; on a GPU
+/// the adds are atomic into one block (docs/performance.md, bench_scatter.cpp).
 /// `copies()` lets `add_scatter_into` read the copies in the pass that writes the node
 /// fields (ScatterView's own `contribute` sums them into a block first: one pass more).
-class NodeScatter : public Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace> {
-  using Base = Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace>;
+class NodeScatter : public Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace,
+                                                             Kokkos::Experimental::ScatterSum, ScatterDuplication> {
+  using Base = Kokkos::Experimental::ScatterView<double**, Kokkos::LayoutRight, ExecSpace,
+                                                 Kokkos::Experimental::ScatterSum, ScatterDuplication>;
 
  public:
   NodeScatter() = default;
   /// Zeroed copies of a block of `rows` x `fields`.
   NodeScatter(const std::string& label, long rows, int fields) : Base(label, std::size_t(rows), std::size_t(fields)) {}
-  /// The copies: (thread, row, field) when duplicated, (row, field) when not.
+  /// The copies: (thread, row, field) when duplicated (the ScatterView's protected
+  /// member), the block (row, field) when not (there the member is private; `subview()`
+  /// is the block itself).
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+  auto copies() const { return this->subview(); }
+#else
   auto copies() const { return this->internal_view; }
+#endif
 };
 
 /// Nodes of the patch (rows of the block) of a node field shaped like `like`.
