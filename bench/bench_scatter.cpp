@@ -1,7 +1,7 @@
 // Particle-to-grid scatter strategies (issue: measure, keep the fastest): mass and
 // momentum (4 node fields) of particles sorted by cell at 1, 8 and 27 particles per
 // cell, linear shape functions:
-//  - ScatterView, duplicated per thread (the OpenMP default, what p2g uses),
+//  - ScatterView, duplicated per thread (the OpenMP default; what p2g uses on any host backend),
 //  - ScatterView with atomics (the GPU default),
 //  - plain atomic_add into the node views,
 //  - gather: each node sums the particles of its 8 cells (needs the particles sorted

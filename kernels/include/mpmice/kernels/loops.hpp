@@ -133,7 +133,7 @@ void over_particle_runs(const std::string& label, long count, const Run& run) {
 /// such kernels keep `IndexBox::policy()`.
 template <class F>
 void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   Kokkos::parallel_for(label, box.policy(), f);
 #else
   if (box.size() == 0) return;
@@ -153,7 +153,7 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 /// no 64-bit integer max or long -> double conversion).
 template <Reduction R, class F>
 double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   double result = 0;
   const auto body = KOKKOS_LAMBDA(int i, int j, int k, double& v) { detail::combine<R>(v, f(i, j, k)); };
   if constexpr (R == Reduction::sum)
@@ -179,7 +179,7 @@ double reduce_over_index(const std::string& label, const IndexBox& box, const F&
 /// values then loaded by gathers. On a GPU this is a plain range.
 template <class F>
 void for_each_particle(const std::string& label, long count, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::simd_run(f, lo, hi); });
@@ -193,7 +193,7 @@ void for_each_particle(const std::string& label, long count, const F& f) {
 /// code (a body left as calls ran 3x slower).
 template <class F>
 void scatter_from_particles(const std::string& label, long count, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::serial_run(f, lo, hi); });
@@ -207,7 +207,7 @@ void scatter_from_particles(const std::string& label, long count, const F& f) {
 /// on a GPU one particle.
 template <class F>
 void scatter_from_particle_runs(const std::string& label, long count, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) { f(p, p + 1); });
 #else
   detail::over_particle_runs(label, count, [=](long lo, long hi) { detail::flat_run(f, lo, hi); });
@@ -218,7 +218,7 @@ void scatter_from_particle_runs(const std::string& label, long count, const F& f
 /// their largest and 0 (as `reduce_over_index`).
 template <Reduction R, class F>
 double reduce_over_particles(const std::string& label, long count, const F& f) {
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {

@@ -2,7 +2,7 @@
 /// \file node_scatter.hpp
 /// \brief How particle loops add into nodes (p2g, internal_force): a block with a row
 ///        per node of the patch and the node's F fields side by side, one copy per
-///        thread on OpenMP (Kokkos ScatterView), added into the node fields after the
+///        thread on the host (Kokkos ScatterView), added into the node fields after the
 ///        loop. The copies can be kept between calls (`ScatterScratch`), so that a step
 ///        does not allocate them, and fault their pages in, again.
 #include <string>
@@ -17,7 +17,7 @@ namespace mpmice {
 /// How the scatter adds: on the host each thread into its own copy (duplicated, also
 /// for Serial, whose ScatterView default is not), on a GPU atomically into one block.
 /// Chosen here, not left to Kokkos's default, because `copies()` reads them differently.
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
 using ScatterDuplication = Kokkos::Experimental::ScatterNonDuplicated;
 #else
 using ScatterDuplication = Kokkos::Experimental::ScatterDuplicated;
@@ -41,7 +41,7 @@ class NodeScatter : public Kokkos::Experimental::ScatterView<double**, Kokkos::L
   /// The copies: (thread, row, field) when duplicated (the ScatterView's protected
   /// member), the block (row, field) when not (there the member is private; `subview()`
   /// is the block itself).
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#if defined(MPMICE_DEVICE_BACKEND)
   auto copies() const { return this->subview(); }
 #else
   auto copies() const { return this->internal_view; }

@@ -46,9 +46,9 @@ inline Kokkos::Array<Quantum, p2g_fields> p2g_quanta(const SumQuanta& q) {
 
 /// p2g's scatter for shapes whose nodes differ between particles of one cell (GIMP):
 /// particle by particle, node by node, a node's 8 fields after the mass as one vector
-/// operation (1.3-1.5x against field by field, docs/performance.md, session 15). A node
+/// operation (1.2-1.65x against field by field, docs/performance.md, session 15). A node
 /// whose share of the mass rounds to zero gets nothing at all, so that no node has
-/// momentum or force without mass (internal_force skips it too).
+/// momentum or force without mass (internal_force, with quanta, skips it too).
 template <class Shape>
 void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                        const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {

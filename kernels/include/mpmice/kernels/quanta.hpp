@@ -44,14 +44,17 @@ struct Quantum {
   /// x itself with q = 0. `unit` times it is round(x) bit for bit, and so is `unit`
   /// times a sum of them the sum of the rounded values: a loop adding many
   /// contributions adds their counts and multiplies once (p2g_cell_runs).
-  KOKKOS_INLINE_FUNCTION double in_units(double x) const {
+  KOKKOS_INLINE_FUNCTION double in_units(double x) const { return count_units(x, scale, half, unrounded); }
+
+  /// in_units from a quantum's parts (also QuantumArray's).
+  KOKKOS_FORCEINLINE_FUNCTION static double count_units(double x, double scale, double half, double unrounded) {
     const double t = x * scale + half;  // x scale is exact: a power of two
     return unrounded != 0.0 ? t : math::floor(t);
   }
 };
 
 /// F quanta part by part (a structure of arrays), so that a loop over them is a vector
-/// loop: `round(f, x)` is Quantum(f).round(x) bit for bit, as unit times in_units.
+/// loop: `round(f, x)` is q[f].round(x) bit for bit, as unit times in_units.
 template <int F>
 struct QuantumArray {
   Kokkos::Array<double, F> scale, half, unrounded, unit;
@@ -64,8 +67,7 @@ struct QuantumArray {
     }
   }
   KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const {
-    const double t = x * scale[f] + half[f];
-    return unit[f] * (unrounded[f] != 0.0 ? t : math::floor(t));
+    return unit[f] * Quantum::count_units(x, scale[f], half[f], unrounded[f]);
   }
 };
 

@@ -4,6 +4,12 @@
 ///        here once; kernels never spell a layout.
 #include <Kokkos_Core.hpp>
 
+/// Defined where the default execution space is a GPU's: the loop helpers (loops.hpp)
+/// and the scatter (node_scatter.hpp) then take their device forms.
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#define MPMICE_DEVICE_BACKEND 1
+#endif
+
 namespace mpmice {
 
 using ExecSpace = Kokkos::DefaultExecutionSpace;
