@@ -16,8 +16,12 @@
 #include <mpmice/kernels/types.hpp>
 
 // `omp simd` on the host only: never in a GPU backend's device pass (a CUDA or HIP
-// build with OpenMP on the host defines _OPENMP there too).
-#if defined(_OPENMP) && !defined(__CUDA_ARCH__) && !defined(__HIP_DEVICE_COMPILE__) && !defined(__SYCL_DEVICE_ONLY__)
+// build with OpenMP on the host defines _OPENMP there too). MPMICE_OPENMP_SIMD: the
+// compiler honours `omp simd` without OpenMP (-fopenmp-simd, set by kernels/CMakeLists.txt
+// for a Kokkos without OpenMP).
+#if (defined(_OPENMP) || defined(MPMICE_OPENMP_SIMD)) && !defined(__CUDA_ARCH__) && \
+    !defined(__HIP_DEVICE_COMPILE__) && !defined(__SYCL_DEVICE_ONLY__)
+#define MPMICE_HOST_SIMD 1
 #define MPMICE_PRAGMA_SIMD _Pragma("omp simd")
 #else
 #define MPMICE_PRAGMA_SIMD
@@ -73,12 +77,12 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
   const F f = body;
   double acc = 0;
   if constexpr (R == Reduction::sum) {
-#if defined(_OPENMP)
+#if defined(MPMICE_HOST_SIMD)
 #pragma omp simd reduction(+ : acc)
 #endif
     for (long k = lo; k < hi; ++k) acc += f(fixed..., k);
   } else {
-#if defined(_OPENMP)
+#if defined(MPMICE_HOST_SIMD)
 #pragma omp simd reduction(max : acc)
 #endif
     for (long k = lo; k < hi; ++k) {
