@@ -184,6 +184,82 @@ void transfer_test() {
 TEST(Transfer, LinearConservesAndReproduces) { transfer_test<LinearShape>(); }
 TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
 
+// (E36) over n sub-steps: the vector loop decides n = 1 (one_deformation_step) without
+// the integer count, so the two must agree at every |L| dt, the boundary 1 included.
+TEST(Deformation, OneStepTestAgreesWithTheSubstepCount) {
+  const double below_one = std::nextafter(1.0, 0.0);
+  for (double s : {0.0, 0.25, 0.5, below_one, 1.0, 1.5, 2.0, 7.25, 1e6}) {
+    Mat3 L = Mat3::zero();
+    L(0, 1) = s;  // |L| dt = s with dt = 1 (sqrt(s^2) is s exactly)
+    EXPECT_EQ(one_deformation_step(L, 1.0), deformation_substeps(L, 1.0) == 1) << "|L| dt = " << s;
+  }
+}
+
+// g2p's deformation in a uniform velocity gradient A (nodes v = A x): with |A| dt < 1
+// one sub-step, F = I + dt L; with |A| dt = 5.5, ten (2 floor(|L| dt)), F = (I + dt L /
+// 10)^10 (the second, scalar pass), and V scales by det F. L is A to round-off (transfer_test); F and V
+// are compared with the same formula applied to the stored L, so the tolerance is
+// the rounding of ten 3 x 3 products of entries up to e^5: 1e-12 relative.
+TEST(Deformation, LargeVelocityGradientIsSubstepped) {
+  const Patch patch = whole_patch({6, 6, 6}, {0.1, 0.1, 0.1});
+  const NodeGrid grid = node_grid(patch);
+  const long n = 300;
+  ParticleSet ps("solid", n);
+  ps.resize(n);
+  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
+  VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
+  const double A[3][3] = {{0.1, -0.2, 0.05}, {0.3, 0.0, -0.1}, {0.02, 0.04, -0.3}};
+  double norm = 0;
+  for (int d = 0; d < 3; ++d) {
+    auto v = vs[d];
+    const double a0 = A[d][0], a1 = A[d][1], a2 = A[d][2];
+    norm += a0 * a0 + a1 * a1 + a2 * a2;
+    Kokkos::parallel_for("linear", patch.ghosted_nodes(2).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+      v(0, i, j, k) = a0 * (grid.lower[0] + i * grid.h[0]) + a1 * (grid.lower[1] + j * grid.h[1]) +
+                      a2 * (grid.lower[2] + k * grid.h[2]);
+    });
+  }
+  norm = std::sqrt(norm);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(1.0, 5.0);
+  for (double dt : {0.5 / norm, 5.5 / norm}) {
+    auto h = Kokkos::create_mirror_view(ps.data());
+    for (long p = 0; p < n; ++p) {
+      for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        h(p, column(ParticleField::x) + d) = u(rng) * 0.1;
+        h(p, column(ParticleField::size_x) + d) = 0.5;
+        h(p, column(ParticleField::F00) + 4 * d) = 1.0;
+      }
+      h(p, column(ParticleField::mass)) = 1.0;
+      h(p, column(ParticleField::volume)) = 1e-4;
+    }
+    Kokkos::deep_copy(ps.data(), h);
+    g2p<LinearShape>(grid, n, ps.data(), 0, dt, 0.0, false, {0, 0, 0}, ConstVectorField4{vs[0], vs[1], vs[2]},
+                     ConstVectorField4{acc[0], acc[1], acc[2]});
+    auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+    for (long p = 0; p < n; ++p) {
+      Mat3 L;
+      for (int d = 0; d < 3; ++d)
+        for (int e = 0; e < 3; ++e) L(d, e) = after(p, tensor_column(ParticleField::L00, d, e));
+      const int steps = deformation_substeps(L, dt);
+      ASSERT_EQ(steps, dt * norm < 1 ? 1 : 10) << "particle " << p;
+      const Mat3 F = deformation_increment(L, dt), F_one = Mat3::identity() + dt * L;
+      double scale = 0, worst = 0, from_one = 0;
+      for (int d = 0; d < 3; ++d)
+        for (int e = 0; e < 3; ++e) {
+          const double got = after(p, tensor_column(ParticleField::F00, d, e));
+          scale = std::max(scale, std::abs(F(d, e)));
+          worst = std::max(worst, std::abs(got - F(d, e)));
+          from_one = std::max(from_one, std::abs(got - F_one(d, e)));
+        }
+      ASSERT_LE(worst, 1e-12 * scale) << "particle " << p << ", " << steps << " sub-steps";
+      if (steps > 1) ASSERT_GT(from_one, 0.1 * scale) << "particle " << p << ": one step, not " << steps;
+      EXPECT_NEAR(after(p, column(ParticleField::volume)), 1e-4 * F.det(), 1e-12 * 1e-4 * std::abs(F.det()));
+    }
+  }
+}
+
 // p2g, g2p and a plain host loop must compute the same weights to the last bit (the
 // momentum g2p gives back balances what p2g took only then; shape.hpp). Particles sit
 // four cells apart, so a node's mass is one particle's weight times its mass of 1,

@@ -18,6 +18,11 @@ KOKKOS_INLINE_FUNCTION int deformation_substeps(const Mat3& L, double dt) {
   return nsub < 1 ? 1 : (nsub > 10000 ? 10000 : nsub);
 }
 
+/// Whether (E36) takes one sub-step, deformation_substeps(L, dt) == 1, that is |L| dt < 1
+/// (or not a number), tested without an int: an int in a particle loop makes GCC size
+/// its vectors for 16 ints and split every double into two registers (design.md).
+KOKKOS_INLINE_FUNCTION bool one_deformation_step(const Mat3& L, double dt) { return !(L.norm() * dt >= 1.0); }
+
 /// The deformation over one step, (I + L dt/n)^n with n sub-steps (E36):
 /// F_new = increment F_old.
 KOKKOS_INLINE_FUNCTION Mat3 deformation_increment(const Mat3& L, double dt) {
@@ -105,7 +110,7 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
     }
     store_tensor(data, p, ParticleField::L00, L);
     // One sub-step, F_new = (I + dt L) F, here; more are left to g2p_substeps.
-    const bool one_step = deformation_substeps(L, dt) == 1;
+    const bool one_step = one_deformation_step(L, dt);
     const Mat3 F = load_tensor(data, p, ParticleField::F00);
     const Mat3 F_new = (Mat3::identity() + dt * L) * F;
     double& volume = data(p, column(ParticleField::volume));
@@ -120,7 +125,7 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
   Kokkos::parallel_for(
       "mpmice::g2p_substeps", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
         const Mat3 L = load_tensor(data, p, ParticleField::L00);
-        if (deformation_substeps(L, dt) == 1) return;
+        if (one_deformation_step(L, dt)) return;
         const Mat3 F = load_tensor(data, p, ParticleField::F00);
         const Mat3 F_new = deformation_increment(L, dt) * F;
         data(p, column(ParticleField::volume)) *= F_new.det() / F.det();
