@@ -127,21 +127,36 @@ struct SlabValue {
   int m;
   double h[3];
 
-  KOKKOS_FORCEINLINE_FUNCTION double operator()(long i, long j, long k, int f, const double* d) const {
-    const double qc = q(m, i, j, k);
-    if (!SecondOrder) return Compatible ? mass(m, i, j, k) * qc : qc;
-    const double mc = Compatible ? mass(m, i, j, k) : 1.0;
+  // What a cell's slabs are made of: q, the mass, and their gradients, as used.
+  struct Cell {
+    double qc, mc, gq[3], gm[3];
+  };
+  KOKKOS_FORCEINLINE_FUNCTION Cell load(long i, long j, long k) const {
+    Cell c{q(m, i, j, k), Compatible ? mass(m, i, j, k) : 1.0, {0, 0, 0}, {0, 0, 0}};
+    if (SecondOrder)
+      unrolled_for<3>([&](int d) {
+        c.gq[d] = grad[d](i, j, k);
+        if (Compatible) c.gm[d] = mass_grad[d](i, j, k);
+      });
+    return c;
+  }
+  // The value of slab f of a cell whose values are `c`.
+  KOKKOS_FORCEINLINE_FUNCTION double value(const Cell& c, int f, const double* d) const {
+    if (!SecondOrder) return Compatible ? c.mc * c.qc : c.qc;
     // Centroid of slab f relative to the cell centre.
     const int dir = f / 2;
     double r[3];
-    unrolled_for<3>([&](int c) { r[c] = 0.5 * (d[2 * c] - d[2 * c + 1]); });
+    unrolled_for<3>([&](int e) { r[e] = 0.5 * (d[2 * e] - d[2 * e + 1]); });
     r[dir] = (f & 1) ? 0.5 * (h[dir] - d[f]) : 0.5 * (d[f] - h[dir]);
     double gq = 0;
-    unrolled_for<3>([&](int c) { gq += grad[c](i, j, k) * r[c]; });
-    if (!Compatible) return qc + gq;
+    unrolled_for<3>([&](int e) { gq += c.gq[e] * r[e]; });
+    if (!Compatible) return c.qc + gq;
     double gm = 0;
-    unrolled_for<3>([&](int c) { gm += mass_grad[c](i, j, k) * r[c]; });
-    return (mc + gm) * qc + mc * gq;
+    unrolled_for<3>([&](int e) { gm += c.gm[e] * r[e]; });
+    return (c.mc + gm) * c.qc + c.mc * gq;
+  }
+  KOKKOS_FORCEINLINE_FUNCTION double operator()(long i, long j, long k, int f, const double* d) const {
+    return value(load(i, j, k), f, d);
   }
 };
 
@@ -174,14 +189,18 @@ void cell_outfluxes(const IndexBox& cells, double dt, const Kokkos::Array<double
                     int m, const Slab& slab, const Kokkos::Array<Field3, 6>& out) {
   for_each_index(
       "mpmice::cell_outfluxes", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-        double d[6];
+        double d[6], o[6];
         outflux_distances(U, m, i, j, k, dt, d);
+        // The cell's values are loaded once and the six outfluxes stored after all are
+        // computed: a store between them made GCC load them again (it may alias them).
+        const auto cell = slab.load(i, j, k);
         unrolled_for<6>([&](int f) {
           // Computed, then selected: a conditional call would be a branch, and the loop
           // would not vectorise.
-          const double out_f = slab(i, j, k, f, d) * d[f] * area[f / 2];
-          out[f](i, j, k) = d[f] > 0 ? out_f : 0.0;
+          const double out_f = slab.value(cell, f, d) * d[f] * area[f / 2];
+          o[f] = d[f] > 0 ? out_f : 0.0;
         });
+        unrolled_for<6>([&](int f) { out[f](i, j, k) = o[f]; });
       });
 }
 
