@@ -4,6 +4,7 @@
 #include <string>
 
 #include <mpmice/kernels/errors.hpp>
+#include <mpmice/kernels/loops.hpp>
 
 namespace mpmice {
 namespace {
@@ -17,36 +18,36 @@ struct Slab {
   long size() const { return long(nm) * box.size(); }
 };
 
+// The slab's (m, i) pairs folded into one index, so that for_each_index (kernels/loops.hpp)
+// runs its rows (m, i, j) in parallel and k, the contiguous index, as a vector loop:
+// the buffer index of (m, i, j, k) is ((mi * nj + j - lo_j) * nk + k - lo_k).
+IndexBox folded_rows(const Slab& s) {
+  const IndexBox b = s.box;
+  return IndexBox{{0, b.lo[1], b.lo[2]}, {s.nm * b.extent(0), b.hi[1], b.hi[2]}};
+}
+
 // Pack the slab of `f` into `buf` (m, i, j, k order, k fastest).
 void pack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf) {
   const IndexBox b = s.box;
-  const int ni = b.extent(0), nj = b.extent(1), nk = b.extent(2);
-  Kokkos::parallel_for(
-      "mpmice::halo_pack",
-      Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<4>>({0, b.lo[0], b.lo[1], b.lo[2]},
-                                                        {s.nm, b.hi[0], b.hi[1], b.hi[2]}),
-      KOKKOS_LAMBDA(int m, int i, int j, int k) {
-        const long n = ((long(m) * ni + (i - b.lo[0])) * nj + (j - b.lo[1])) * nk + (k - b.lo[2]);
-        buf(n) = f(m, i, j, k);
-      });
+  const long ni = b.extent(0), nj = b.extent(1), nk = b.extent(2), lo_i = b.lo[0], lo_j = b.lo[1], lo_k = b.lo[2];
+  for_each_index("mpmice::halo_pack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
+    buf((mi * nj + j - lo_j) * nk + k - lo_k) = f(mi / ni, lo_i + mi % ni, j, k);
+  });
 }
 
 // Unpack `buf` into the slab of `f`, replacing (fill) or adding (reverse sum).
 void unpack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf,
             bool add) {
   const IndexBox b = s.box;
-  const int ni = b.extent(0), nj = b.extent(1), nk = b.extent(2);
-  Kokkos::parallel_for(
-      "mpmice::halo_unpack",
-      Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<4>>({0, b.lo[0], b.lo[1], b.lo[2]},
-                                                        {s.nm, b.hi[0], b.hi[1], b.hi[2]}),
-      KOKKOS_LAMBDA(int m, int i, int j, int k) {
-        const long n = ((long(m) * ni + (i - b.lo[0])) * nj + (j - b.lo[1])) * nk + (k - b.lo[2]);
-        if (add)
-          f(m, i, j, k) += buf(n);
-        else
-          f(m, i, j, k) = buf(n);
-      });
+  const long ni = b.extent(0), nj = b.extent(1), nk = b.extent(2), lo_i = b.lo[0], lo_j = b.lo[1], lo_k = b.lo[2];
+  if (add)
+    for_each_index("mpmice::halo_unpack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
+      f(mi / ni, lo_i + mi % ni, j, k) += buf((mi * nj + j - lo_j) * nk + k - lo_k);
+    });
+  else
+    for_each_index("mpmice::halo_unpack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
+      f(mi / ni, lo_i + mi % ni, j, k) = buf((mi * nj + j - lo_j) * nk + k - lo_k);
+    });
 }
 
 void ensure_size(Kokkos::View<double*, MemSpace>& v, long n) {
