@@ -3,15 +3,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include <mpmice/kernels/advection.hpp>
 #include <mpmice/kernels/boundary_conditions.hpp>
+#include <mpmice/kernels/conserved_to_primitive.hpp>
 #include <mpmice/kernels/equilibrate_pressure.hpp>
 #include <mpmice/kernels/exchange.hpp>
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/pressure_work_heat.hpp>
+#include <mpmice/kernels/timestep.hpp>
 
 using namespace mpmice;
 
@@ -669,4 +672,121 @@ TEST(BoundaryConditions, ExtraCellsOfSeveralFieldsInOneLaunch) {
   long kept = 0;
   for (std::size_t i = 0; i < hv.extent(1); ++i) kept += hv(0, i, j, k) == hv1(0, i, j, k);
   EXPECT_EQ(kept, long(hv.extent(1)));
+}
+
+// The per-step reductions: the time step (a minimum), the outflux limit (a maximum,
+// rows of vector loops) and the search for bad states (a count in rows of vector
+// loops, then where). Each must equal a plain host loop over the same fields exactly:
+// a minimum, a maximum and a count of cells do not depend on the order.
+namespace {
+struct ReductionBox {
+  Patch p;
+  MaterialTable mats;
+  Field4 rho, temp, sp_vol;
+  VectorField4 vel, U;
+
+  ReductionBox() {
+    Grid g;
+    g.cells = {6, 5, 9};
+    g.spacing = {1e-3, 2e-3, 1.5e-3};
+    p = whole_grid_patch(g, 1);
+    mats.count = 3;
+    mats.eos[0] = Eos{EosType::ideal_gas, 1.4, 716.0};
+    mats.eos[1] = Eos{EosType::ideal_gas, 1.4, 716.0};
+    mats.kind[1] = mpm_material;  // not an ICE material: it does not limit the step
+    mats.eos[2] = Eos{EosType::ideal_gas, 1.67, 3116.0};
+    std::mt19937 rng(17);
+    auto random_field = [&](Location where, double lo, double hi) {
+      std::uniform_real_distribution<double> value(lo, hi);
+      const Field4 f = make_field("f", p, where, mats.count);
+      auto fh = Kokkos::create_mirror_view(f);
+      for (size_t n = 0; n < fh.size(); ++n) fh.data()[n] = value(rng);
+      Kokkos::deep_copy(f, fh);
+      return f;
+    };
+    rho = random_field(Location::cell, 0.5, 1.5);
+    temp = random_field(Location::cell, 200.0, 2000.0);
+    sp_vol = random_field(Location::cell, 0.5, 1.5);
+    const Location faces[3] = {Location::x_face, Location::y_face, Location::z_face};
+    for (int d = 0; d < 3; ++d) {
+      vel[d] = random_field(Location::cell, -300.0, 300.0);
+      U[d] = random_field(faces[d], -300.0, 300.0);
+    }
+  }
+  ConstVectorField4 cell_velocities() const { return {vel[0], vel[1], vel[2]}; }
+  ConstVectorField4 face_velocities() const { return {U[0], U[1], U[2]}; }
+};
+}  // namespace
+
+TEST(Reductions, TimestepAndOutfluxLimitEqualHostLoops) {
+  ReductionBox b;
+  // Material 2 absent (rho v below 1e-6) in one cell: it must not limit the step there.
+  auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.rho);
+  rh(2, 3, 2, 4) = 1e-9;
+  Kokkos::deep_copy(b.rho, rh);
+  auto vh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.sp_vol);
+  auto th = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.temp);
+  Kokkos::Array<decltype(vh), 3> uh, Uh;
+  for (int d = 0; d < 3; ++d) {
+    uh[d] = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.vel[d]);
+    Uh[d] = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.U[d]);
+  }
+  const IndexBox cells = b.p.owned_cells();
+  const Kokkos::Array<double, 3> h{b.p.grid.spacing[0], b.p.grid.spacing[1], b.p.grid.spacing[2]};
+  const double dt = 1e-6;
+  double dt_host = std::numeric_limits<double>::max(), outflux_host = 0;
+  for (int i = cells.lo[0]; i < cells.hi[0]; ++i)
+    for (int j = cells.lo[1]; j < cells.hi[1]; ++j)
+      for (int k = cells.lo[2]; k < cells.hi[2]; ++k)
+        for (int m = 0; m < b.mats.count; ++m) {
+          if (b.mats.is_ice(m) && rh(m, i, j, k) * vh(m, i, j, k) >= 1e-6) {
+            const double c = std::sqrt(eos_sound_speed_squared(b.mats.eos[m], 1.0 / vh(m, i, j, k), th(m, i, j, k)));
+            for (int d = 0; d < 3; ++d) dt_host = std::min(dt_host, h[d] / (c + std::abs(uh[d](m, i, j, k)) + 1e-100));
+          }
+          double d[6];
+          outflux_distances(ConstVectorField4{Uh[0], Uh[1], Uh[2]}, m, i, j, k, dt, d);
+          outflux_host = std::max(outflux_host, (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2]);
+        }
+  EXPECT_EQ(ice_timestep(cells, h, 0.5, b.mats, b.rho, b.sp_vol, b.temp, b.cell_velocities()), 0.5 * dt_host);
+  EXPECT_EQ(max_outflux_fraction(cells, h, dt, b.mats.count, b.face_velocities()), outflux_host);
+  // No fluid present anywhere: nothing limits the step.
+  MaterialTable solids = b.mats;
+  for (int m = 0; m < solids.count; ++m) solids.kind[m] = mpm_material;
+  EXPECT_EQ(ice_timestep(cells, h, 1.0, solids, b.rho, b.sp_vol, b.temp, b.cell_velocities()),
+            std::numeric_limits<double>::max());
+}
+
+TEST(Reductions, BadStatesAreCountedAndTheLastIsNamed) {
+  ReductionBox b;
+  const IndexBox cells = b.p.owned_cells();
+  const ConstVectorField4 vel = b.cell_velocities();
+  EXPECT_EQ(find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel).count, 0);
+  // One bad value per quantity in four cells; a bad value in an extra cell (not in
+  // `cells`) is not counted. The last cell in index order is (4, 4, 7): its velocity.
+  auto set = [&](const Field4& f, int m, int i, int j, int k, double value) {
+    auto fh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
+    fh(m, i, j, k) = value;
+    Kokkos::deep_copy(f, fh);
+  };
+  set(b.rho, 0, 1, 1, 1, -1.0);
+  set(b.temp, 2, 2, 3, 1, std::numeric_limits<double>::quiet_NaN());
+  set(b.sp_vol, 1, 3, 1, 5, 0.0);
+  set(b.vel[1], 2, 4, 4, 7, std::numeric_limits<double>::infinity());
+  set(b.rho, 1, 0, 0, 0, -1.0);  // an extra cell
+  const BadState bad = find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel);
+  EXPECT_EQ(bad.count, 4);
+  EXPECT_EQ(bad.cell[0], 4);
+  EXPECT_EQ(bad.cell[1], 4);
+  EXPECT_EQ(bad.cell[2], 7);
+  EXPECT_EQ(bad.material, 2);
+  EXPECT_EQ(bad.quantity, 3);
+  // An infinite specific volume is allowed (E38 asks v > 0 only); an infinite
+  // temperature is not.
+  set(b.vel[1], 2, 4, 4, 7, 1.0);
+  set(b.sp_vol, 0, 4, 4, 8, std::numeric_limits<double>::infinity());
+  set(b.temp, 0, 4, 4, 6, std::numeric_limits<double>::infinity());
+  const BadState next = find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel);
+  EXPECT_EQ(next.count, 4);
+  EXPECT_EQ(next.cell[2], 6);
+  EXPECT_EQ(next.quantity, 1);
 }

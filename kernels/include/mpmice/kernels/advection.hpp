@@ -14,6 +14,7 @@
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/math.hpp>
 
 namespace mpmice {
@@ -40,17 +41,20 @@ KOKKOS_FORCEINLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, i
 inline double max_outflux_fraction(const IndexBox& cells, const Kokkos::Array<double, 3> h,
                                    double dt, int materials, const ConstVectorField4& U) {
   double worst = 0;
-  Kokkos::parallel_reduce(
-      "mpmice::max_outflux_fraction", cells.policy(),
-      KOKKOS_LAMBDA(int i, int j, int k, double& w) {
-        for (int m = 0; m < materials; ++m) {
-          double d[6];
-          outflux_distances(U, m, i, j, k, dt, d);
-          const double frac = (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2];
-          if (frac > w) w = frac;
-        }
-      },
-      Kokkos::Max<double>(worst));
+  with_material_count(materials, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    worst = reduce_over_index<Reduction::max>(
+        "mpmice::max_outflux_fraction", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+          double w = 0;
+          unrolled_for<N>([&](int m) {
+            double d[6];
+            outflux_distances(U, m, i, j, k, dt, d);
+            const double frac = (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2];
+            w = frac > w ? frac : w;
+          });
+          return w;
+        });
+  });
   return worst;
 }
 

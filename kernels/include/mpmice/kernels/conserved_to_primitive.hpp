@@ -2,8 +2,11 @@
 /// \file conserved_to_primitive.hpp
 /// \brief Steps 25-26: the advected totals back to density, velocity, temperature and
 ///        specific volume (E37, E38).
+#include <limits>
+
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/math.hpp>
 
 namespace mpmice {
@@ -45,6 +48,29 @@ struct BadState {
 inline BadState find_bad_states(const IndexBox& cells, int materials, const ConstField4& rho,
                                 const ConstField4& temp, const ConstField4& sp_vol,
                                 const ConstVectorField4& vel) {
+  // The common case, no bad state, in one pass that counts the cells (rows as vector
+  // loops: the conditions below as comparisons, x <= huge failing for inf and NaN).
+  const double huge = std::numeric_limits<double>::max();
+  double bad_cells = 0;
+  with_material_count(materials, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    bad_cells = reduce_over_index<Reduction::sum>(
+        "mpmice::count_bad_states", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+          double bad = 0;
+          unrolled_for<N>([&](int m) {
+            const double r = rho(m, i, j, k), t = temp(m, i, j, k), s = sp_vol(m, i, j, k);
+            const double u = math::abs(vel[0](m, i, j, k)), v = math::abs(vel[1](m, i, j, k)),
+                         w = math::abs(vel[2](m, i, j, k));
+            // & not &&: every value is loaded, no load is conditional.
+            const bool good = (r > 0) & (r <= huge) & (t > 0) & (t <= huge) & (s > 0) & (u <= huge) & (v <= huge) &
+                              (w <= huge);
+            bad = good ? bad : 1.0;
+          });
+          return bad;
+        });
+  });
+  if (bad_cells == 0) return BadState();
+  // Where: the cell last in index order, its material and quantity.
   const int nj = int(rho.extent(2)), nk = int(rho.extent(3));
   long count = 0, code = -1;  // code: ((cell * materials) + m) * 4 + quantity
   Kokkos::parallel_reduce(
