@@ -233,6 +233,16 @@ TEST(Advection, FaceFluxesAddUpToTheChange) {
 }
 
 namespace {
+// A field of `materials` slots at `where` on patch p, every entry uniform in [lo, hi).
+Field4 random_values(const Patch& p, Location where, int materials, double lo, double hi, std::mt19937& rng) {
+  std::uniform_real_distribution<double> value(lo, hi);
+  const Field4 f = make_field("f", p, where, materials);
+  auto fh = Kokkos::create_mirror_view(f);
+  for (size_t n = 0; n < fh.size(); ++n) fh.data()[n] = value(rng);
+  Kokkos::deep_copy(f, fh);
+  return f;
+}
+
 // A 6 x 7 x 9 patch of unequal cell sizes with random cell values around 1 (q, its
 // mass), random gradients and face velocities of both signs in every direction.
 struct RandomBox {
@@ -249,14 +259,7 @@ struct RandomBox {
     g.spacing = {h[0], h[1], h[2]};
     p = whole_grid_patch(g, 2);
     std::mt19937 rng(11);
-    auto random_field = [&](Location where, double lo, double hi) {
-      std::uniform_real_distribution<double> value(lo, hi);
-      const Field4 f = make_field("f", p, where, 1);
-      auto fh = Kokkos::create_mirror_view(f);
-      for (size_t n = 0; n < fh.size(); ++n) fh.data()[n] = value(rng);
-      Kokkos::deep_copy(f, fh);
-      return f;
-    };
+    auto random_field = [&](Location where, double lo, double hi) { return random_values(p, where, 1, lo, hi, rng); };
     q = random_field(Location::cell, 0.5, 1.5);
     mass = random_field(Location::cell, 0.5, 1.5);
     const Location faces[3] = {Location::x_face, Location::y_face, Location::z_face};
@@ -697,12 +700,7 @@ struct ReductionBox {
     mats.eos[2] = Eos{EosType::ideal_gas, 1.67, 3116.0};
     std::mt19937 rng(17);
     auto random_field = [&](Location where, double lo, double hi) {
-      std::uniform_real_distribution<double> value(lo, hi);
-      const Field4 f = make_field("f", p, where, mats.count);
-      auto fh = Kokkos::create_mirror_view(f);
-      for (size_t n = 0; n < fh.size(); ++n) fh.data()[n] = value(rng);
-      Kokkos::deep_copy(f, fh);
-      return f;
+      return random_values(p, where, mats.count, lo, hi, rng);
     };
     rho = random_field(Location::cell, 0.5, 1.5);
     temp = random_field(Location::cell, 200.0, 2000.0);

@@ -196,10 +196,11 @@ TEST(Deformation, OneStepTestAgreesWithTheSubstepCount) {
 }
 
 // g2p's deformation in a uniform velocity gradient A (nodes v = A x): with |A| dt < 1
-// one sub-step, F = I + dt L; with |A| dt = 5.5, ten (2 floor(|L| dt)), F = (I + dt L /
-// 10)^10 (the second, scalar pass), and V scales by det F. L is A to round-off (transfer_test); F and V
-// are compared with the same formula applied to the stored L, so the tolerance is
-// the rounding of ten 3 x 3 products of entries up to e^5: 1e-12 relative.
+// one sub-step, F = I + dt L; with |A| dt = 5.5, ten (2 floor(|L| dt)),
+// F = (I + dt L / 10)^10 (the second, scalar pass), and V scales by det F. L is A to
+// round-off (transfer_test); F and V are compared with the same formula applied to the
+// stored L, so the tolerance is the rounding of ten 3 x 3 products of entries up to
+// e^5: 1e-12 relative.
 TEST(Deformation, LargeVelocityGradientIsSubstepped) {
   const Patch patch = whole_patch({6, 6, 6}, {0.1, 0.1, 0.1});
   const NodeGrid grid = node_grid(patch);
