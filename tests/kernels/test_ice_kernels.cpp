@@ -718,7 +718,8 @@ struct ReductionBox {
 
 TEST(Reductions, TimestepAndOutfluxLimitEqualHostLoops) {
   ReductionBox b;
-  // Material 2 absent (rho v below 1e-6) in one cell: it must not limit the step there.
+  // Material 2 absent (rho v below 1e-6) in one cell and the solid (material 1) in
+  // another, both at 1e6 m/s: counted, either would set the step.
   auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.rho);
   rh(2, 3, 2, 4) = 1e-9;
   Kokkos::deep_copy(b.rho, rh);
@@ -729,6 +730,10 @@ TEST(Reductions, TimestepAndOutfluxLimitEqualHostLoops) {
     uh[d] = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.vel[d]);
     Uh[d] = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.U[d]);
   }
+  uh[0](2, 3, 2, 4) = 1e6;
+  uh[1](1, 2, 3, 3) = -1e6;
+  Kokkos::deep_copy(b.vel[0], uh[0]);
+  Kokkos::deep_copy(b.vel[1], uh[1]);
   const IndexBox cells = b.p.owned_cells();
   const Kokkos::Array<double, 3> h{b.p.grid.spacing[0], b.p.grid.spacing[1], b.p.grid.spacing[2]};
   const double dt = 1e-6;
@@ -745,6 +750,7 @@ TEST(Reductions, TimestepAndOutfluxLimitEqualHostLoops) {
           outflux_distances(ConstVectorField4{Uh[0], Uh[1], Uh[2]}, m, i, j, k, dt, d);
           outflux_host = std::max(outflux_host, (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2]);
         }
+  ASSERT_GT(dt_host, 1e-3 / 1e6 * 10);  // neither fast cell counted
   EXPECT_EQ(ice_timestep(cells, h, 0.5, b.mats, b.rho, b.sp_vol, b.temp, b.cell_velocities()), 0.5 * dt_host);
   EXPECT_EQ(max_outflux_fraction(cells, h, dt, b.mats.count, b.face_velocities()), outflux_host);
   // No fluid present anywhere: nothing limits the step.
@@ -759,18 +765,38 @@ TEST(Reductions, BadStatesAreCountedAndTheLastIsNamed) {
   const IndexBox cells = b.p.owned_cells();
   const ConstVectorField4 vel = b.cell_velocities();
   EXPECT_EQ(find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel).count, 0);
-  // One bad value per quantity in four cells; a bad value in an extra cell (not in
-  // `cells`) is not counted. The last cell in index order is (4, 4, 7): its velocity.
   auto set = [&](const Field4& f, int m, int i, int j, int k, double value) {
     auto fh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
+    const double old = fh(m, i, j, k);
     fh(m, i, j, k) = value;
     Kokkos::deep_copy(f, fh);
+    return old;
   };
+  // One value at a time: density and temperature must be positive and finite, the
+  // specific volume positive (E38 allows it infinite), a velocity finite.
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const Field4 fields[6] = {b.rho, b.temp, b.sp_vol, b.vel[0], b.vel[1], b.vel[2]};
+  for (int q = 0; q < 6; ++q)
+    for (double value : {nan, inf, -inf, 0.0, -0.0, -1.0}) {
+      const bool bad = q < 2 ? true : q == 2 ? !(value > 0) || std::isnan(value) : !std::isfinite(value);
+      const double old = set(fields[q], 2, 3, 2, 5, value);
+      const BadState found = find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel);
+      set(fields[q], 2, 3, 2, 5, old);
+      ASSERT_EQ(found.count, bad ? 1 : 0) << "quantity " << q << ", value " << value;
+      if (!bad) continue;
+      EXPECT_EQ(found.quantity, q < 3 ? q : 3);
+      EXPECT_EQ(found.material, 2);
+      EXPECT_EQ(found.cell[0], 3);
+      EXPECT_EQ(found.cell[1], 2);
+      EXPECT_EQ(found.cell[2], 5);
+    }
+  // Bad values in four cells and in an extra cell (not in `cells`, not counted): the
+  // last cell in index order, (4, 4, 7), is named, with its material and quantity.
   set(b.rho, 0, 1, 1, 1, -1.0);
-  set(b.temp, 2, 2, 3, 1, std::numeric_limits<double>::quiet_NaN());
+  set(b.temp, 2, 2, 3, 1, nan);
   set(b.sp_vol, 1, 3, 1, 5, 0.0);
-  set(b.vel[1], 2, 4, 4, 7, std::numeric_limits<double>::infinity());
-  set(b.rho, 1, 0, 0, 0, -1.0);  // an extra cell
+  set(b.vel[1], 2, 4, 4, 7, inf);
+  set(b.rho, 1, 0, 0, 0, -1.0);
   const BadState bad = find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel);
   EXPECT_EQ(bad.count, 4);
   EXPECT_EQ(bad.cell[0], 4);
@@ -778,13 +804,4 @@ TEST(Reductions, BadStatesAreCountedAndTheLastIsNamed) {
   EXPECT_EQ(bad.cell[2], 7);
   EXPECT_EQ(bad.material, 2);
   EXPECT_EQ(bad.quantity, 3);
-  // An infinite specific volume is allowed (E38 asks v > 0 only); an infinite
-  // temperature is not.
-  set(b.vel[1], 2, 4, 4, 7, 1.0);
-  set(b.sp_vol, 0, 4, 4, 8, std::numeric_limits<double>::infinity());
-  set(b.temp, 0, 4, 4, 6, std::numeric_limits<double>::infinity());
-  const BadState next = find_bad_states(cells, b.mats.count, b.rho, b.temp, b.sp_vol, vel);
-  EXPECT_EQ(next.count, 4);
-  EXPECT_EQ(next.cell[2], 6);
-  EXPECT_EQ(next.quantity, 1);
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -188,19 +189,34 @@ TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
 // the integer count, so the two must agree at every |L| dt, the boundary 1 included.
 TEST(Deformation, OneStepTestAgreesWithTheSubstepCount) {
   const double below_one = std::nextafter(1.0, 0.0);
-  for (double s : {0.0, 0.25, 0.5, below_one, 1.0, 1.5, 2.0, 7.25, 1e6}) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (double s : {0.0, 0.25, 0.5, below_one, 1.0, 1.5, 2.0, 7.25, 1e6, 0x1p30, 1e150, inf, nan}) {
     Mat3 L = Mat3::zero();
-    L(0, 1) = s;  // |L| dt = s with dt = 1 (sqrt(s^2) is s exactly)
+    L(0, 1) = s;  // |L| dt = s with dt = 1 (sqrt(s^2) is s exactly, up to 1e150)
     EXPECT_EQ(one_deformation_step(L, 1.0), deformation_substeps(L, 1.0) == 1) << "|L| dt = " << s;
   }
+  // The count itself: 2 floor(|L| dt), at least 1 and at most 10000.
+  auto count = [](double s) {
+    Mat3 L = Mat3::zero();
+    L(2, 0) = s;
+    return deformation_substeps(L, 1.0);
+  };
+  EXPECT_EQ(count(0.0), 1);
+  EXPECT_EQ(count(nan), 1);
+  EXPECT_EQ(count(below_one), 1);
+  EXPECT_EQ(count(1.0), 2);
+  EXPECT_EQ(count(7.25), 14);
+  EXPECT_EQ(count(5000.0), 10000);
+  EXPECT_EQ(count(0x1p30), 10000);
+  EXPECT_EQ(count(inf), 10000);
 }
 
 // g2p's deformation in a uniform velocity gradient A (nodes v = A x): with |A| dt < 1
 // one sub-step, F = I + dt L; with |A| dt = 5.5, ten (2 floor(|L| dt)),
 // F = (I + dt L / 10)^10 (the second, scalar pass), and V scales by det F. L is A to
 // round-off (transfer_test); F and V are compared with the same formula applied to the
-// stored L, so the tolerance is the rounding of ten 3 x 3 products of entries up to
-// e^5: 1e-12 relative.
+// stored L, so the tolerance is the rounding of ten 3 x 3 products of entries of order
+// 1 (|F| about 2 here): 1e-12 relative, some 50 times their rounding.
 TEST(Deformation, LargeVelocityGradientIsSubstepped) {
   const Patch patch = whole_patch({6, 6, 6}, {0.1, 0.1, 0.1});
   const NodeGrid grid = node_grid(patch);

@@ -36,25 +36,32 @@ KOKKOS_FORCEINLINE_FUNCTION void outflux_distances(const ConstVectorField4& U, i
   d[5] = uz_hi > 0 ? uz_hi * dt : 0.0;
 }
 
+namespace detail {
+// max_outflux_fraction() for N materials, written out so that the rows vectorise.
+template <int N>
+double max_outflux_fraction_n(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                              const ConstVectorField4& U) {
+  return reduce_over_index<Reduction::max>(
+      "mpmice::max_outflux_fraction", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        double w = 0;
+        unrolled_for<N>([&](int m) {
+          double d[6];
+          outflux_distances(U, m, i, j, k, dt, d);
+          const double frac = (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2];
+          w = frac > w ? frac : w;
+        });
+        return w;
+      });
+}
+}  // namespace detail
+
 /// Largest sum of outflux volumes over cell volume, over the cells and materials: a
 /// value above 1 makes the step invalid (E39).
 inline double max_outflux_fraction(const IndexBox& cells, const Kokkos::Array<double, 3> h,
                                    double dt, int materials, const ConstVectorField4& U) {
   double worst = 0;
-  with_material_count(materials, [&](auto n) {
-    constexpr int N = decltype(n)::value;
-    worst = reduce_over_index<Reduction::max>(
-        "mpmice::max_outflux_fraction", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-          double w = 0;
-          unrolled_for<N>([&](int m) {
-            double d[6];
-            outflux_distances(U, m, i, j, k, dt, d);
-            const double frac = (d[0] + d[1]) / h[0] + (d[2] + d[3]) / h[1] + (d[4] + d[5]) / h[2];
-            w = frac > w ? frac : w;
-          });
-          return w;
-        });
-  });
+  with_material_count(materials,
+                      [&](auto n) { worst = detail::max_outflux_fraction_n<decltype(n)::value>(cells, h, dt, U); });
   return worst;
 }
 

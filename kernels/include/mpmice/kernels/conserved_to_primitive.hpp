@@ -2,8 +2,6 @@
 /// \file conserved_to_primitive.hpp
 /// \brief Steps 25-26: the advected totals back to density, velocity, temperature and
 ///        specific volume (E37, E38).
-#include <limits>
-
 #include <mpmice/kernels/grid.hpp>
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
@@ -42,32 +40,60 @@ struct BadState {
   int quantity = 0;      ///< 0 density, 1 temperature, 2 specific volume, 3 velocity
 };
 
+namespace detail {
+/// (E38)'s conditions on one material's state in a cell: density and temperature
+/// positive and finite, specific volume positive, velocity finite. Comparisons only
+/// (x <= the largest double fails for inf and NaN), so that a loop over cells vectorises.
+struct StateCheck {
+  double rho, temp, sp_vol, vel[3];
+  static constexpr double huge = 1.7976931348623157e308;  // the largest double
+
+  KOKKOS_FORCEINLINE_FUNCTION bool density_good() const { return (rho > 0) & (rho <= huge); }
+  KOKKOS_FORCEINLINE_FUNCTION bool temperature_good() const { return (temp > 0) & (temp <= huge); }
+  KOKKOS_FORCEINLINE_FUNCTION bool specific_volume_good() const { return sp_vol > 0; }
+  KOKKOS_FORCEINLINE_FUNCTION bool velocity_good() const {
+    return (math::abs(vel[0]) <= huge) & (math::abs(vel[1]) <= huge) & (math::abs(vel[2]) <= huge);
+  }
+  /// The first bad quantity (BadState::quantity), or -1.
+  KOKKOS_FORCEINLINE_FUNCTION int bad_quantity() const {
+    return !density_good() ? 0 : !temperature_good() ? 1 : !specific_volume_good() ? 2 : !velocity_good() ? 3 : -1;
+  }
+};
+
+KOKKOS_FORCEINLINE_FUNCTION StateCheck state_of(const ConstField4& rho, const ConstField4& temp,
+                                                const ConstField4& sp_vol, const ConstVectorField4& vel, int m,
+                                                long i, long j, long k) {
+  return StateCheck{rho(m, i, j, k), temp(m, i, j, k), sp_vol(m, i, j, k),
+                    {vel[0](m, i, j, k), vel[1](m, i, j, k), vel[2](m, i, j, k)}};
+}
+
+/// The number of cells with a bad state, N materials written out: one pass of vector rows.
+template <int N>
+double count_bad_states_n(const IndexBox& cells, const ConstField4& rho, const ConstField4& temp,
+                          const ConstField4& sp_vol, const ConstVectorField4& vel) {
+  return reduce_over_index<Reduction::sum>(
+      "mpmice::count_bad_states", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+        double bad = 0;
+        unrolled_for<N>([&](int m) {
+          const StateCheck s = state_of(rho, temp, sp_vol, vel, m, i, j, k);
+          // & not &&: every condition evaluated, no branch.
+          const bool good = s.density_good() & s.temperature_good() & s.specific_volume_good() & s.velocity_good();
+          bad = good ? bad : 1.0;
+        });
+        return bad;
+      });
+}
+}  // namespace detail
+
 /// Cells where rho, T or v is not positive (or not finite) or a velocity not finite
 /// after the step (E38's stop condition): how many, and the last such cell in index
-/// order with its material and quantity.
+/// order with its material and quantity. The common case, none, is one counting pass.
 inline BadState find_bad_states(const IndexBox& cells, int materials, const ConstField4& rho,
                                 const ConstField4& temp, const ConstField4& sp_vol,
                                 const ConstVectorField4& vel) {
-  // The common case, no bad state, in one pass that counts the cells (rows as vector
-  // loops: the conditions below as comparisons, x <= huge failing for inf and NaN).
-  const double huge = std::numeric_limits<double>::max();
   double bad_cells = 0;
   with_material_count(materials, [&](auto n) {
-    constexpr int N = decltype(n)::value;
-    bad_cells = reduce_over_index<Reduction::sum>(
-        "mpmice::count_bad_states", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-          double bad = 0;
-          unrolled_for<N>([&](int m) {
-            const double r = rho(m, i, j, k), t = temp(m, i, j, k), s = sp_vol(m, i, j, k);
-            const double u = math::abs(vel[0](m, i, j, k)), v = math::abs(vel[1](m, i, j, k)),
-                         w = math::abs(vel[2](m, i, j, k));
-            // & not &&: every value is loaded, no load is conditional.
-            const bool good = (r > 0) & (r <= huge) & (t > 0) & (t <= huge) & (s > 0) & (u <= huge) & (v <= huge) &
-                              (w <= huge);
-            bad = good ? bad : 1.0;
-          });
-          return bad;
-        });
+    bad_cells = detail::count_bad_states_n<decltype(n)::value>(cells, rho, temp, sp_vol, vel);
   });
   if (bad_cells == 0) return BadState();
   // Where: the cell last in index order, its material and quantity.
@@ -77,13 +103,7 @@ inline BadState find_bad_states(const IndexBox& cells, int materials, const Cons
       "mpmice::find_bad_states", cells.policy(),
       KOKKOS_LAMBDA(int i, int j, int k, long& n, long& where) {
         for (int m = 0; m < materials; ++m) {
-          int q = -1;
-          if (!(rho(m, i, j, k) > 0) || !math::isfinite(rho(m, i, j, k))) q = 0;
-          else if (!(temp(m, i, j, k) > 0) || !math::isfinite(temp(m, i, j, k))) q = 1;
-          else if (!(sp_vol(m, i, j, k) > 0)) q = 2;
-          else if (!math::isfinite(vel[0](m, i, j, k)) || !math::isfinite(vel[1](m, i, j, k)) ||
-                   !math::isfinite(vel[2](m, i, j, k)))
-            q = 3;
+          const int q = detail::state_of(rho, temp, sp_vol, vel, m, i, j, k).bad_quantity();
           if (q >= 0) {
             ++n;
             const long c = ((long(i) * nj + j) * nk + k) * materials + m;

@@ -12,15 +12,17 @@
 
 namespace mpmice {
 
-/// The number of sub-steps of (E36): n = min(max(1, 2 floor(|L| dt)), 10000).
+/// The number of sub-steps of (E36): n = min(max(1, 2 floor(|L| dt)), 10000); 1 when
+/// |L| dt is not a number. Clamped as a double, so that a huge or infinite |L| dt gets
+/// 10000 (converted to int first, it would overflow).
 KOKKOS_INLINE_FUNCTION int deformation_substeps(const Mat3& L, double dt) {
-  const int nsub = int(2.0 * math::floor(L.norm() * dt));
-  return nsub < 1 ? 1 : (nsub > 10000 ? 10000 : nsub);
+  const double nsub = 2.0 * math::floor(L.norm() * dt);
+  return !(nsub >= 1.0) ? 1 : (nsub > 10000.0 ? 10000 : int(nsub));
 }
 
 /// Whether (E36) takes one sub-step, deformation_substeps(L, dt) == 1, that is |L| dt < 1
-/// (or not a number), tested without an int: an int in a particle loop makes GCC size
-/// its vectors for 16 ints and split every double into two registers (design.md).
+/// or not a number, tested without an int: an int in a particle loop makes GCC size its
+/// vectors for 16 ints and split every double into two registers (design.md).
 KOKKOS_INLINE_FUNCTION bool one_deformation_step(const Mat3& L, double dt) { return !(L.norm() * dt >= 1.0); }
 
 /// The deformation over one step, (I + L dt/n)^n with n sub-steps (E36):

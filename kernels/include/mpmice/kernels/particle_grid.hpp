@@ -60,7 +60,7 @@ struct NodeStencil {
       for (int b = 0; b < Nodes; ++b)
         for (int c = 0; c < Nodes; ++c) steps[(a * Nodes + b) * Nodes + c] = a * stride[0] + b * stride[1] + c * stride[2];
   }
-  KOKKOS_INLINE_FUNCTION long at(const long* first) const {
+  KOKKOS_INLINE_FUNCTION long at(const NodeOffset* first) const {
     return base + first[0] * stride[0] + first[1] * stride[1] + first[2] * stride[2];
   }
   KOKKOS_INLINE_FUNCTION long step(int a, int b, int c) const { return steps[(a * Nodes + b) * Nodes + c]; }

@@ -15,8 +15,8 @@ struct LinearShape {
   static constexpr int nodes = 2;
   /// `half_width` (particle half-size in cell units) is not used.
   KOKKOS_INLINE_FUNCTION static void weights(double xi, double /*half_width*/, double inv_h,
-                                             long& first, double* w, double* dw) {
-    first = long(math::floor(xi));
+                                             NodeOffset& first, double* w, double* dw) {
+    first = NodeOffset(math::floor(xi));
     const double r = xi - first;
     w[0] = 1.0 - r;
     w[1] = r;
@@ -29,13 +29,13 @@ struct LinearShape {
 /// nearest node and one on each side (E8, E9).
 struct GimpShape {
   static constexpr int nodes = 3;
-  KOKKOS_INLINE_FUNCTION static void weights(double xi, double l, double inv_h, long& first,
+  KOKKOS_INLINE_FUNCTION static void weights(double xi, double l, double inv_h, NodeOffset& first,
                                              double* w, double* dw) {
     // The nearest node is floor(xi + 0.5), written with floor(xi) so that no sum
     // uses xi: GCC then never fuses xi's product (ParticleWeights) into an FMA, and
     // every kernel gets the same weights (see ParticleWeights).
     const double cell = math::floor(xi);
-    first = long(cell) - (xi - cell < 0.5 ? 1 : 0);
+    first = NodeOffset(cell) - (xi - cell < 0.5 ? 1 : 0);
     unrolled_for<3>([&](int a) {
       const double r = xi - (first + a);  // particle minus node, cell units
       const double ar = math::abs(r);
@@ -64,7 +64,7 @@ struct GimpShape {
 /// (0.5 x). Tests: `Transfer.*WeightsAgreeBetweenKernels`.
 template <class Shape>
 struct ParticleWeights {
-  long first[3];  ///< a long, not an int: an int halves a particle loop's vectors (design.md)
+  NodeOffset first[3];
   double w[3][Shape::nodes], dw[3][Shape::nodes];
 
   /// `x` in m; lower, inv_h per direction; `half_width` in cell units.

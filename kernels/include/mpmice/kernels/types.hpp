@@ -44,6 +44,17 @@ using ConstField4 = Field4::const_type;
 using ConstField3 = Field3::const_type;
 using ConstVectorField4 = Kokkos::Array<ConstField4, 3>;
 
+/// The integer type of a particle's first node. GCC sizes a particle loop's vectors by
+/// the narrowest type in it, so an int takes 16 particles per 512-bit iteration, every
+/// double in two registers (spilling: g2p 1.1-1.5x slower, docs/design.md). A long
+/// avoids that, but a vector of doubles converts to 64-bit integers only with
+/// AVX-512DQ: on AVX2 a long keeps the loop scalar, and the int is the one that vectorises.
+#if defined(__AVX512DQ__)
+using NodeOffset = long;
+#else
+using NodeOffset = int;
+#endif
+
 /// A half-open box of local indices [lo, hi) in three directions.
 struct IndexBox {
   int lo[3] = {0, 0, 0};
