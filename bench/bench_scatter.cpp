@@ -78,7 +78,7 @@ void scatter_with(const Case& c, long n) {
           for (int b = 0; b < 2; ++b)
             for (int cc = 0; cc < 2; ++cc) {
               const double S = wt.weight(a, b, cc) * m;
-              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + cc;
+              const long i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + cc;
               am(0, i, j, k) += S;
               ax(0, i, j, k) += S * v[0];
               ay(0, i, j, k) += S * v[1];
@@ -108,7 +108,7 @@ void scatter_atomic(const Case& c, long n) {
           for (int b = 0; b < 2; ++b)
             for (int cc = 0; cc < 2; ++cc) {
               const double S = wt.weight(a, b, cc) * m;
-              const int i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + cc;
+              const long i = wt.first[0] + a, j = wt.first[1] + b, k = wt.first[2] + cc;
               Kokkos::atomic_add(&mass(0, i, j, k), S);
               Kokkos::atomic_add(&px(0, i, j, k), S * v[0]);
               Kokkos::atomic_add(&py(0, i, j, k), S * v[1]);

@@ -18,35 +18,41 @@ struct Slab {
   long size() const { return long(nm) * box.size(); }
 };
 
-// The slab's (m, i) pairs folded into one index, so that for_each_index (kernels/loops.hpp)
-// runs its rows (m, i, j) in parallel and k, the contiguous index, as a vector loop:
-// the buffer index of (m, i, j, k) is ((mi * nj + j - lo_j) * nk + k - lo_k).
-IndexBox folded_rows(const Slab& s) {
-  const IndexBox b = s.box;
-  return IndexBox{{0, b.lo[1], b.lo[2]}, {s.nm * b.extent(0), b.hi[1], b.hi[2]}};
-}
+// A slab's rows for for_each_index (kernels/loops.hpp): its (m, i) pairs folded into
+// one index mi, so that the rows (mi, j) run in parallel and k, the contiguous index, as
+// a vector loop.
+struct SlabRows {
+  long ni, nj, nk, lo_i, lo_j, lo_k;
+  IndexBox box;  ///< (mi, j, k)
 
-// Pack the slab of `f` into `buf` (m, i, j, k order, k fastest).
+  explicit SlabRows(const Slab& s)
+      : ni(s.box.extent(0)), nj(s.box.extent(1)), nk(s.box.extent(2)), lo_i(s.box.lo[0]), lo_j(s.box.lo[1]),
+        lo_k(s.box.lo[2]), box{{0, s.box.lo[1], s.box.lo[2]}, {s.nm * s.box.extent(0), s.box.hi[1], s.box.hi[2]}} {}
+  KOKKOS_INLINE_FUNCTION long m(long mi) const { return mi / ni; }
+  KOKKOS_INLINE_FUNCTION long i(long mi) const { return lo_i + mi % ni; }
+  /// The place of (m, i, j, k) in the buffer: m, i, j, k order, k fastest.
+  KOKKOS_INLINE_FUNCTION long at(long mi, long j, long k) const { return (mi * nj + j - lo_j) * nk + k - lo_k; }
+};
+
+// Pack the slab of `f` into `buf`.
 void pack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf) {
-  const IndexBox b = s.box;
-  const long ni = b.extent(0), nj = b.extent(1), nk = b.extent(2), lo_i = b.lo[0], lo_j = b.lo[1], lo_k = b.lo[2];
-  for_each_index("mpmice::halo_pack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
-    buf((mi * nj + j - lo_j) * nk + k - lo_k) = f(mi / ni, lo_i + mi % ni, j, k);
+  const SlabRows r(s);
+  for_each_index("mpmice::halo_pack", r.box, KOKKOS_LAMBDA(long mi, long j, long k) {
+    buf(r.at(mi, j, k)) = f(r.m(mi), r.i(mi), j, k);
   });
 }
 
 // Unpack `buf` into the slab of `f`, replacing (fill) or adding (reverse sum).
 void unpack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf,
             bool add) {
-  const IndexBox b = s.box;
-  const long ni = b.extent(0), nj = b.extent(1), nk = b.extent(2), lo_i = b.lo[0], lo_j = b.lo[1], lo_k = b.lo[2];
+  const SlabRows r(s);
   if (add)
-    for_each_index("mpmice::halo_unpack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
-      f(mi / ni, lo_i + mi % ni, j, k) += buf((mi * nj + j - lo_j) * nk + k - lo_k);
+    for_each_index("mpmice::halo_unpack_add", r.box, KOKKOS_LAMBDA(long mi, long j, long k) {
+      f(r.m(mi), r.i(mi), j, k) += buf(r.at(mi, j, k));
     });
   else
-    for_each_index("mpmice::halo_unpack", folded_rows(s), KOKKOS_LAMBDA(long mi, long j, long k) {
-      f(mi / ni, lo_i + mi % ni, j, k) = buf((mi * nj + j - lo_j) * nk + k - lo_k);
+    for_each_index("mpmice::halo_unpack", r.box, KOKKOS_LAMBDA(long mi, long j, long k) {
+      f(r.m(mi), r.i(mi), j, k) = buf(r.at(mi, j, k));
     });
 }
 
