@@ -38,6 +38,20 @@ NodeSums node_sums(const Patch& patch) {
                   {node("fx"), node("fy"), node("fz")}};
 }
 
+// The velocity gradient of the g2p tests, 1/s, and node velocities v = A x + b (each
+// component b) on every node of the patch: a linear field, which g2p reproduces.
+constexpr double velocity_gradient[3][3] = {{0.1, -0.2, 0.05}, {0.3, 0.0, -0.1}, {0.02, 0.04, -0.3}};
+void fill_linear_velocity(const Patch& patch, const NodeGrid& grid, const VectorField4& vs, double b) {
+  for (int d = 0; d < 3; ++d) {
+    auto v = vs[d];
+    const double a0 = velocity_gradient[d][0], a1 = velocity_gradient[d][1], a2 = velocity_gradient[d][2];
+    Kokkos::parallel_for("linear", patch.ghosted_nodes(2).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
+      v(0, i, j, k) = a0 * (grid.lower[0] + i * grid.h[0]) + a1 * (grid.lower[1] + j * grid.h[1]) +
+                      a2 * (grid.lower[2] + k * grid.h[2]) + b;
+    });
+  }
+}
+
 template <class Shape>
 void check_partition_and_linear(double half_width) {
   std::mt19937_64 rng(11);
@@ -150,15 +164,8 @@ void transfer_test() {
 
   // Gather of a linear velocity field v = A x + b: particles get it exactly, and L = A.
   VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
-  const double A[3][3] = {{0.1, -0.2, 0.05}, {0.3, 0.0, -0.1}, {0.02, 0.04, -0.3}};
-  for (int d = 0; d < 3; ++d) {
-    auto v = vs[d];
-    const double a0 = A[d][0], a1 = A[d][1], a2 = A[d][2];
-    Kokkos::parallel_for("linear", patch.ghosted_nodes(2).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-      v(0, i, j, k) = a0 * (grid.lower[0] + i * grid.h[0]) + a1 * (grid.lower[1] + j * grid.h[1]) +
-                      a2 * (grid.lower[2] + k * grid.h[2]) + 1.0;
-    });
-  }
+  const auto& A = velocity_gradient;
+  fill_linear_velocity(patch, grid, vs, 1.0);
   for (long p = 0; p < n; ++p)
     for (int d = 0; d < 3; ++d) h(p, column(ParticleField::F00) + 4 * d) = 1.0;
   Kokkos::deep_copy(ps.data(), h);
@@ -225,17 +232,10 @@ TEST(Deformation, LargeVelocityGradientIsSubstepped) {
   ps.resize(n);
   auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
   VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
-  const double A[3][3] = {{0.1, -0.2, 0.05}, {0.3, 0.0, -0.1}, {0.02, 0.04, -0.3}};
+  fill_linear_velocity(patch, grid, vs, 0.0);
   double norm = 0;
-  for (int d = 0; d < 3; ++d) {
-    auto v = vs[d];
-    const double a0 = A[d][0], a1 = A[d][1], a2 = A[d][2];
-    norm += a0 * a0 + a1 * a1 + a2 * a2;
-    Kokkos::parallel_for("linear", patch.ghosted_nodes(2).policy(), KOKKOS_LAMBDA(int i, int j, int k) {
-      v(0, i, j, k) = a0 * (grid.lower[0] + i * grid.h[0]) + a1 * (grid.lower[1] + j * grid.h[1]) +
-                      a2 * (grid.lower[2] + k * grid.h[2]);
-    });
-  }
+  for (int d = 0; d < 3; ++d)
+    for (int e = 0; e < 3; ++e) norm += velocity_gradient[d][e] * velocity_gradient[d][e];
   norm = std::sqrt(norm);
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(1.0, 5.0);
