@@ -78,19 +78,16 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
   scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
     double units[3][N] = {};
-    long run_first = -1;
     // Adds the run's sums into its nodes and zeroes them.
-    const auto add_run = [&]() {
+    const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
-        if (run_first >= 0) {
-          const long row = run_first + rows.steps[a];
-          for (int d = 0; d < 3; ++d) node(row, d) += units[d][a] * quantum.unit;
-        }
+        const long row = run_first + rows.steps[a];
+        for (int d = 0; d < 3; ++d) node(row, d) += units[d][a] * quantum.unit;
       });
       for (int d = 0; d < 3; ++d)
         for (int a = 0; a < N; ++a) units[d][a] = 0.0;
     };
-    over_cell_runs<Shape>(grid, rows, data, lo, hi, run_first, add_run, [&](long p, const ParticleWeights<Shape>& wt) {
+    const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
       const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
       // The forces in quanta, vectorised over the nodes (a long index and doubles for
@@ -131,7 +128,8 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         units[1][a] += (a == heaviest ? given1 : 0.0) - force[1][a];
         units[2][a] += (a == heaviest ? given2 : 0.0) - force[2][a];
       }
-    });
+    };
+    over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
 }
 }  // namespace detail

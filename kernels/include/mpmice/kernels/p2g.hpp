@@ -54,7 +54,6 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
                        const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, F = p2g_fields;
   const QuantumArray<F> quanta(quantum);
-  const Quantum mass_quantum = quantum[0];
   scatter_from_particles("mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
     double x[3], half[3], value[F];
     particle_position(data, p, x, half);
@@ -66,10 +65,10 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
           const double S = wt.weight(a, b, c);
-          const double mass = mass_quantum.in_units(S * value[0]);
+          const double mass = quantum[0].in_units(S * value[0]);
           if (mass == 0.0) return;
           const long row = first + rows.step(a, b, c);
-          node(row, 0) += mass_quantum.unit * mass;
+          node(row, 0) += quanta.unit[0] * mass;
           // The other 8 fields: one 8-wide vector operation where the CPU has it.
           MPMICE_PRAGMA_SIMD
           for (int f = 1; f < F; ++f) node(row, f) += quanta.round(f, S * value[f]);
@@ -109,25 +108,34 @@ KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shap
 
 /// The particle loop of a scatter by cell runs (p2g_cell_runs,
 /// internal_force_cell_runs) over particles [lo, hi): each particle's weights and its
-/// first node's row in the block; `add_run()` adds the run's sums into the nodes from
-/// `run_first` and is called before the first particle of another cell and at the end;
-/// `add(p, wt)` adds particle p into the run's sums.
-template <class Shape, class AddRun, class Add>
+/// first node's row in the block; `add(p, wt)` adds particle p into the run's sums, and
+/// `add_run(first)` adds them into the nodes from row `first` (and zeroes them) after
+/// the last particle of the run's cell. The run's inner loop calls nothing else, so the
+/// compiler can keep the sums in registers through it (before, with add_run a branch
+/// in the one particle loop, they went to the stack and back for every particle).
+template <class Shape, class Add, class AddRun>
 KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const NodeStencil<Shape::nodes>& rows,
-                                                const ParticleData& data, long lo, long hi, long& run_first,
-                                                const AddRun& add_run, const Add& add) {
-  for (long p = lo; p < hi; ++p) {
+                                                const ParticleData& data, long lo, long hi, const Add& add,
+                                                const AddRun& add_run) {
+  const auto weights = [&](long p) {
     double x[3], half[3];
     particle_position(data, p, x, half);
-    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    return ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half);
+  };
+  if (lo >= hi) return;
+  long p = lo;
+  ParticleWeights<Shape> wt = weights(p);
+  while (p < hi) {
     const long first = rows.at(wt.first);
-    if (first != run_first) {
-      add_run();
-      run_first = first;
-    }
-    add(p, wt);
+    long next_first = first;
+    do {
+      add(p, wt);
+      if (++p == hi) break;
+      wt = weights(p);
+      next_first = rows.at(wt.first);
+    } while (next_first == first);
+    add_run(first);
   }
-  add_run();
 }
 
 /// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
@@ -135,30 +143,34 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const Node
 /// particles' contributions in registers, vectorised over its 8 nodes, and adds the
 /// sums into the scatter once per node (8 particles per cell: 1/8 of the adds). A node
 /// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
-/// run counts each contribution in its quantum (Quantum::in_units: 4 vector operations,
-/// against 6 for the rounded value) and multiplies by the quantum when it adds into the
+/// run counts each contribution in its quantum (Quantum::in_units: 2 vector operations,
+/// against 3 for the rounded value) and multiplies by the quantum when it adds into the
 /// scatter. The sums' order differs from p2g_each_particle's: without quanta a node's
 /// value changes at round-off; with quanta, as in the driver, not at all.
 template <class Shape>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
+  Kokkos::Array<double, F> unit;
+  for (int f = 0; f < F; ++f) unit[f] = quantum[f].unit;
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
     double units[F][N] = {};
-    long run_first = -1;
-    // Adds the run's sums into its nodes (those that got mass) and zeroes them.
-    const auto add_run = [&]() {
+    // Adds the run's sums into its nodes (those that got mass) and zeroes them; a
+    // node's 8 fields after the mass are one vector operation where the CPU has it.
+    const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
-        if (run_first >= 0 && units[0][a] != 0.0) {
+        if (units[0][a] != 0.0) {
           const long row = run_first + rows.steps[a];
-          for (int f = 0; f < F; ++f) node(row, f) += units[f][a] * quantum[f].unit;
+          node(row, 0) += units[0][a] * unit[0];
+          MPMICE_PRAGMA_SIMD
+          for (int f = 1; f < F; ++f) node(row, f) += units[f][a] * unit[f];
         }
       });
       for (int f = 0; f < F; ++f)
         for (int a = 0; a < N; ++a) units[f][a] = 0.0;
     };
-    over_cell_runs<Shape>(grid, rows, data, lo, hi, run_first, add_run, [&](long p, const ParticleWeights<Shape>& wt) {
+    const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       double value[F];
       p2g_values(data, p, value);
       // A vector loop over the nodes, without branches (Quantum::in_units), and a
@@ -172,9 +184,11 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
         const double mass = quantum[0].in_units(S * value[0]);  // 0 for a node left out
         const double kept = mass != 0.0 ? S : 0.0;
         units[0][a] += mass;
-        unrolled_for<F - 1>([&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
+        unrolled_for<F - 1>(
+            [&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
       }
-    });
+    };
+    over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
 }
 }  // namespace detail

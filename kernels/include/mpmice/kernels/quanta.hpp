@@ -25,49 +25,58 @@ struct SumQuanta {
   double energy = 0;          ///< J: burned m (c_v T + dh)
 };
 
-/// A power-of-two quantum q (quantum_for, 0 for none) with its reciprocal, which is
-/// exact: x (1/q) equals x/q bit for bit and the product back is exact.
+/// A power-of-two quantum q (quantum_for, 0 for none) with what rounding to it takes.
+///
+/// Rounding adds and subtracts 1.5 2^52 (`magic`): doubles between 2^52 and 2^53 are
+/// whole numbers, so t = x/q + 1.5 2^52 rounds x/q to the nearest whole number (ties to
+/// even) and t - 1.5 2^52 is that number, exactly, for |x/q| < 2^51 (contributions are
+/// below 2^41 q). Two vector operations, against four for floor(x/q + 1/2) with a select
+/// for q = 0; with q = 0 the magic number is 0 and x passes through unchanged. This needs
+/// IEEE arithmetic: a compiler allowed to reassociate (-ffast-math, nvcc's
+/// --use_fast_math) would fold the two away.
 struct Quantum {
-  double q = 0, inverse = 0;
+  double q = 0;
   double unrounded = 1;  ///< 1 if q = 0, else 0
   double unit = 1;       ///< what `in_units` counts in: q, or 1 if q = 0
-  double scale = 1;      ///< 1/unit, exact
-  double half = 0;       ///< 1/2 if q > 0, else 0
+  double scale = 1;      ///< 1/unit, exact (a power of two)
+  double magic = 0;      ///< 1.5 2^52 if q > 0, else 0
   Quantum() = default;
   KOKKOS_INLINE_FUNCTION Quantum(double quantum)
-      : q(quantum), inverse(quantum > 0 ? 1.0 / quantum : 0.0), unrounded(quantum > 0 ? 0.0 : 1.0),
-        unit(quantum > 0 ? quantum : 1.0), scale(quantum > 0 ? 1.0 / quantum : 1.0), half(quantum > 0 ? 0.5 : 0.0) {}
+      : q(quantum), unrounded(quantum > 0 ? 0.0 : 1.0), unit(quantum > 0 ? quantum : 1.0),
+        scale(quantum > 0 ? 1.0 / quantum : 1.0), magic(quantum > 0 ? 0x1.8p52 : 0.0) {}
   /// x rounded to the nearest multiple of q (x itself if q = 0).
-  KOKKOS_INLINE_FUNCTION double round(double x) const { return q > 0 ? math::floor(x * inverse + 0.5) * q : x; }
-  /// `round(x)` counted in `unit`s, without a branch (straight code that GCC vectorises;
-  /// it keeps `round`'s select as a branch there): a whole number below 2^53 with q > 0,
-  /// x itself with q = 0. `unit` times it is round(x) bit for bit, and so is `unit`
-  /// times a sum of them the sum of the rounded values: a loop adding many
+  KOKKOS_INLINE_FUNCTION double round(double x) const { return unit * in_units(x); }
+  /// `round(x)` counted in `unit`s, without a branch: a whole number below 2^53 with
+  /// q > 0, x itself with q = 0. `unit` times it is round(x) bit for bit, and so is
+  /// `unit` times a sum of them the sum of the rounded values: a loop adding many
   /// contributions adds their counts and multiplies once (p2g_cell_runs).
-  KOKKOS_INLINE_FUNCTION double in_units(double x) const { return count_units(x, scale, half, unrounded); }
+  KOKKOS_INLINE_FUNCTION double in_units(double x) const { return nearest_whole(x * scale, magic); }
 
-  /// in_units from a quantum's parts (also QuantumArray's).
-  KOKKOS_FORCEINLINE_FUNCTION static double count_units(double x, double scale, double half, double unrounded) {
-    const double t = x * scale + half;  // x scale is exact: a power of two
-    return unrounded != 0.0 ? t : math::floor(t);
+  /// A value counted in units (x/q, exact), rounded to the nearest whole number with a
+  /// quantum's `magic` (x itself for magic = 0). Callers pass x/q as `x * scale`, never
+  /// a product folded into the scale: x * scale + magic is then the same whether or not
+  /// the compiler fuses it into an FMA, and every kernel rounds a contribution alike
+  /// (p2g's and internal_force's "does this node get mass" must agree).
+  KOKKOS_FORCEINLINE_FUNCTION static double nearest_whole(double x_in_units, double magic) {
+    const double t = x_in_units + magic;
+    return t - magic;
   }
 };
 
 /// F quanta part by part (a structure of arrays), so that a loop over them is a vector
-/// loop: `round(f, x)` is q[f].round(x) bit for bit, as unit times in_units.
+/// loop: `round(f, x)` is q[f].round(x) bit for bit.
 template <int F>
 struct QuantumArray {
-  Kokkos::Array<double, F> scale, half, unrounded, unit;
+  Kokkos::Array<double, F> scale, magic, unit;
   explicit QuantumArray(const Kokkos::Array<Quantum, F>& q) {
     for (int f = 0; f < F; ++f) {
       scale[f] = q[f].scale;
-      half[f] = q[f].half;
-      unrounded[f] = q[f].unrounded;
+      magic[f] = q[f].magic;
       unit[f] = q[f].unit;
     }
   }
   KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const {
-    return unit[f] * Quantum::count_units(x, scale[f], half[f], unrounded[f]);
+    return unit[f] * Quantum::nearest_whole(x * scale[f], magic[f]);
   }
 };
 
