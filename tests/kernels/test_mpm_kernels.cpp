@@ -435,6 +435,57 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
   EXPECT_GT(skipped, 0);
 }
 
+// Quantum::round against its definition, computed here without the magic number:
+// the multiple of q nearest x (ties to the even multiple), exact.
+TEST(Quanta, RoundToTheNearestMultipleTiesToEven) {
+  const double q = quantum_for(3.0);  // 2^-39: contributions up to 3 are below 2^41 q
+  ASSERT_EQ(q, std::ldexp(1.0, -39));
+  const Quantum quantum(q);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int n = 0; n < 10000; ++n) {
+    const double x = n % 2 ? u(rng) : u(rng) * std::ldexp(1.0, -30 * (n % 3));  // also near 0
+    const double r = quantum.round(x);
+    const double k = std::nearbyint(x / q);  // x / q exact (a power of two); nearbyint: ties to even
+    ASSERT_EQ(r, k * q) << "x = " << x;
+    ASSERT_EQ(quantum.in_units(x), k) << "x = " << x;
+    ASSERT_LE(std::abs(r - x), 0.5 * q);
+  }
+  // Halves go to the even multiple, on both sides of 0.
+  EXPECT_EQ(quantum.round(2.5 * q), 2 * q);
+  EXPECT_EQ(quantum.round(3.5 * q), 4 * q);
+  EXPECT_EQ(quantum.round(-2.5 * q), -2 * q);
+  EXPECT_EQ(quantum.round(0.49 * q), 0.0);
+  EXPECT_EQ(quantum.round(-0.5 * q), 0.0);
+  // The largest contribution the quantum is made for, 2^41 q, stays exact.
+  EXPECT_EQ(quantum.round(std::ldexp(q, 41) - q), std::ldexp(q, 41) - q);
+  // Without a quantum a value passes through unchanged: tiny, huge, NaN.
+  const Quantum none(0.0);
+  for (double x : {1e-300, -3.7e-310, 1.234567890123e200, -0.1})
+    EXPECT_EQ(none.round(x), x);
+  EXPECT_TRUE(std::isnan(none.round(std::numeric_limits<double>::quiet_NaN())));
+  EXPECT_TRUE(std::isnan(quantum.round(std::numeric_limits<double>::quiet_NaN())));
+}
+
+// The reason for quanta: sums of rounded contributions do not depend on their order.
+TEST(Quanta, RoundedSumsDoNotDependOnTheirOrder) {
+  const Quantum quantum(quantum_for(1.0));
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x(4096);
+  for (double& v : x) v = quantum.round(u(rng) * std::ldexp(1.0, -int(rng() % 20)));
+  const auto sum = [&] {
+    double s = 0;
+    for (double v : x) s += v;
+    return s;
+  };
+  const double first = sum();
+  for (int shuffle = 0; shuffle < 5; ++shuffle) {
+    std::shuffle(x.begin(), x.end(), rng);
+    EXPECT_EQ(sum(), first);
+  }
+}
+
 TEST(Transfer, SortKeepsEveryParticle) {
   Grid g;
   g.cells = {4, 4, 4};
