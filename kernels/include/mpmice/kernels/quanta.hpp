@@ -12,6 +12,11 @@
 
 #include <mpmice/kernels/math.hpp>
 
+// Quantum's rounding (below) is two additions that only IEEE arithmetic keeps.
+#if defined(__FAST_MATH__)
+#error "mpmice's kernels need IEEE arithmetic (quanta.hpp): build them without -ffast-math"
+#endif
+
 namespace mpmice {
 
 /// The quanta of one step's particle scatters (0: no rounding).
