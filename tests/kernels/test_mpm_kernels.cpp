@@ -457,12 +457,21 @@ TEST(Quanta, RoundToTheNearestMultipleTiesToEven) {
   EXPECT_EQ(quantum.round(-2.5 * q), -2 * q);
   EXPECT_EQ(quantum.round(0.49 * q), 0.0);
   EXPECT_EQ(quantum.round(-0.5 * q), 0.0);
-  // The largest contribution the quantum is made for, 2^41 q, stays exact.
-  EXPECT_EQ(quantum.round(std::ldexp(q, 41) - q), std::ldexp(q, 41) - q);
+  // Whole multiples stay, up to the rounding's limit 2^51 q, and halves round to even
+  // there too (2^41 q is the largest contribution the quanta are made for).
+  for (int e : {41, 50, 51}) {
+    const double big = std::ldexp(q, e);
+    EXPECT_EQ(quantum.round(big - q), big - q) << "2^" << e << " q";
+    EXPECT_EQ(quantum.round(-big), -big) << "2^" << e << " q";
+    EXPECT_EQ(quantum.round(big - 1.5 * q), big - 2 * q) << "2^" << e << " q";
+  }
   // Without a quantum a value passes through unchanged: tiny, huge, NaN.
   const Quantum none(0.0);
-  for (double x : {1e-300, -3.7e-310, 1.234567890123e200, -0.1})
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double x : {1e-300, -3.7e-310, 1.234567890123e200, -0.1, inf, -inf})
     EXPECT_EQ(none.round(x), x);
+  EXPECT_EQ(quantum.round(inf), inf);
+  EXPECT_EQ(quantum.round(-inf), -inf);
   EXPECT_TRUE(std::isnan(none.round(std::numeric_limits<double>::quiet_NaN())));
   EXPECT_TRUE(std::isnan(quantum.round(std::numeric_limits<double>::quiet_NaN())));
 }

@@ -12,9 +12,13 @@
 
 #include <mpmice/kernels/math.hpp>
 
-// Quantum's rounding (below) is two additions that only IEEE arithmetic keeps.
+// Quantum's rounding (below) is two additions that only IEEE arithmetic keeps; a
+// compiler allowed to reassociate would fold them away. GCC and Clang define
+// __FAST_MATH__ under -ffast-math, icpx under its default -fp-model=fast (the
+// mpmice::kernels target sets -fp-model=precise for it). -fassociative-math alone does
+// not show here: do not use it.
 #if defined(__FAST_MATH__)
-#error "mpmice's kernels need IEEE arithmetic (quanta.hpp): build them without -ffast-math"
+#error "mpmice's kernels need IEEE arithmetic (quanta.hpp): build them without -ffast-math (icpx: -fp-model=precise)"
 #endif
 
 namespace mpmice {
@@ -34,11 +38,12 @@ struct SumQuanta {
 ///
 /// Rounding adds and subtracts 1.5 2^52 (`magic`): doubles between 2^52 and 2^53 are
 /// whole numbers, so t = x/q + 1.5 2^52 rounds x/q to the nearest whole number (ties to
-/// even) and t - 1.5 2^52 is that number, exactly, for |x/q| < 2^51 (contributions are
-/// below 2^41 q). Two vector operations, against four for floor(x/q + 1/2) with a select
-/// for q = 0; with q = 0 the magic number is 0 and x passes through unchanged. This needs
-/// IEEE arithmetic: a compiler allowed to reassociate (-ffast-math, nvcc's
-/// --use_fast_math) would fold the two away.
+/// even) and t - 1.5 2^52 is that number, exactly, for |x/q| <= 2^51 (the quanta are
+/// made for contributions below 2^41 q). Two vector operations, against four for
+/// floor(x/q + 1/2) with a select for q = 0; with q = 0 the magic number is 0 and x
+/// passes through (as x + 0: -0 becomes +0, and a target that flushes subnormals to zero,
+/// as nvcc's --use_fast_math does, flushes x too). This needs IEEE arithmetic
+/// (the #error above).
 struct Quantum {
   double q = 0;
   double unrounded = 1;  ///< 1 if q = 0, else 0
@@ -51,8 +56,8 @@ struct Quantum {
         scale(quantum > 0 ? 1.0 / quantum : 1.0), magic(quantum > 0 ? 0x1.8p52 : 0.0) {}
   /// x rounded to the nearest multiple of q (x itself if q = 0).
   KOKKOS_INLINE_FUNCTION double round(double x) const { return unit * in_units(x); }
-  /// `round(x)` counted in `unit`s, without a branch: a whole number below 2^53 with
-  /// q > 0, x itself with q = 0. `unit` times it is round(x) bit for bit, and so is
+  /// `round(x)` counted in `unit`s, without a branch: a whole number with q > 0 (for
+  /// |x| <= 2^51 q), x itself with q = 0. `unit` times it is round(x) bit for bit, and so is
   /// `unit` times a sum of them the sum of the rounded values: a loop adding many
   /// contributions adds their counts and multiplies once (p2g_cell_runs).
   KOKKOS_INLINE_FUNCTION double in_units(double x) const { return nearest_whole(x * scale, magic); }
