@@ -151,20 +151,16 @@ template <class Shape>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
-  Kokkos::Array<double, F> unit;
-  for (int f = 0; f < F; ++f) unit[f] = quantum[f].unit;
+  const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
     double units[F][N] = {};
-    // Adds the run's sums into its nodes (those that got mass) and zeroes them; a
-    // node's 8 fields after the mass are one vector operation where the CPU has it.
+    // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
         if (units[0][a] != 0.0) {
           const long row = run_first + rows.steps[a];
-          node(row, 0) += units[0][a] * unit[0];
-          MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += units[f][a] * unit[f];
+          for (int f = 0; f < F; ++f) node(row, f) += units[f][a] * quanta.unit[f];
         }
       });
       for (int f = 0; f < F; ++f)
@@ -184,8 +180,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
         const double mass = quantum[0].in_units(S * value[0]);  // 0 for a node left out
         const double kept = mass != 0.0 ? S : 0.0;
         units[0][a] += mass;
-        unrolled_for<F - 1>(
-            [&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
+        unrolled_for<F - 1>([&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
       }
     };
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
