@@ -28,12 +28,6 @@ using namespace mpmice::bench;
 
 namespace {
 
-void report(benchmark::State& state, long items, double bytes_per_item) {
-  state.SetItemsProcessed(state.iterations() * items);
-  state.SetBytesProcessed(int64_t(state.iterations() * items * bytes_per_item));
-  state.counters["bytes_per_item"] = bytes_per_item;
-}
-
 void BM_equilibrate_pressure(benchmark::State& state) {
   const int n = int(state.range(0)), mats = int(state.range(1));
   const Patch p = cube_patch(n);
@@ -160,6 +154,6 @@ void cell_sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
-BENCHMARK(BM_advection_first_order)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();
-BENCHMARK(BM_advection_second_order)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();
-BENCHMARK(BM_limited_gradient)->ArgName("cells")->Arg(16)->Arg(32)->Arg(64)->Arg(128)->UseManualTime();
+BENCHMARK(BM_advection_first_order)->Apply(cube_sizes)->UseManualTime();
+BENCHMARK(BM_advection_second_order)->Apply(cube_sizes)->UseManualTime();
+BENCHMARK(BM_limited_gradient)->Apply(cube_sizes)->UseManualTime();

@@ -26,9 +26,7 @@ void BM_halo_fill(benchmark::State& state) {
   const Field4 f = cell_field(dec.patch(), mats, 1.0, 0.1, 1);
   const long ghosts = (dec.patch().ghosted_cells(2).size() - dec.patch().owned_cells().size()) * mats;
   for (auto _ : state) state.SetIterationTime(timed([&] { halo.fill(f, Location::cell, 2); }));
-  state.SetItemsProcessed(state.iterations() * ghosts);
-  state.SetBytesProcessed(state.iterations() * ghosts * 32);
-  state.counters["bytes_per_item"] = 32;
+  report(state, ghosts, 32.0);
 }
 
 }  // namespace

@@ -31,12 +31,6 @@ Patch patch_for(long particles) {
   return cube_patch(n);
 }
 
-void report(benchmark::State& state, long items, double bytes_per_item) {
-  state.SetItemsProcessed(state.iterations() * items);
-  state.SetBytesProcessed(int64_t(state.iterations() * items * bytes_per_item));
-  state.counters["bytes_per_item"] = bytes_per_item;
-}
-
 // The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp): 2^-40 of the
 // largest contribution of each kind, the mass's from the heaviest particle.
 SumQuanta driver_quanta(const NodeGrid& grid, long count, const ParticleData& data) {

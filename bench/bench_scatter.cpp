@@ -168,8 +168,7 @@ void BM_scatter(benchmark::State& state) {
       else if (method == 2) scatter_atomic(c, n);
       else gather_sorted(c);
     }));
-  state.SetItemsProcessed(state.iterations() * n);
-  state.SetBytesProcessed(state.iterations() * n * 56);
+  report(state, n, 56.0);
   const char* names[4] = {"scatterview_duplicated", "scatterview_atomic", "atomic_add", "sorted_gather"};
   state.SetLabel(names[method]);
 }

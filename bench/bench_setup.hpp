@@ -1,6 +1,8 @@
 #pragma once
 // Realistic inputs for the kernel benchmarks: a cube of cells with gas states, and
 // particles on a lattice with random jitter, all on one patch.
+#include <benchmark/benchmark.h>
+
 #include <random>
 
 #include <mpmice/kernels/grid_state.hpp>
@@ -53,6 +55,17 @@ inline Field3 cell_scalar(const Patch& p, double base, double spread, unsigned s
   return randomised(make_field("bench", p, Location::cell), base, spread, seed);
 }
 
+/// A node field of one material slot with values around `base`, varying by +-`spread`.
+inline Field4 node_field(const Patch& p, double base, double spread, unsigned seed) {
+  return randomised(make_field("bench", p, Location::node, 1), base, spread, seed);
+}
+
+/// Three node fields as node_field (seeds seed, seed + 1, seed + 2).
+inline VectorField4 node_vector(const Patch& p, double base, double spread, unsigned seed) {
+  return {node_field(p, base, spread, seed), node_field(p, base, spread, seed + 1),
+          node_field(p, base, spread, seed + 2)};
+}
+
 /// `count` particles spread over the patch's owned cells (sorted by cell, as the
 /// driver keeps them), F = I, small random velocities.
 inline ParticleSet particles_in(const Patch& p, long count, unsigned seed) {
@@ -81,6 +94,20 @@ inline ParticleSet particles_in(const Patch& p, long count, unsigned seed) {
   }
   Kokkos::deep_copy(ps.data(), h);
   return ps;
+}
+
+/// The cube sizes of the cell and node benchmarks: 16^3 to 128^3 cells.
+inline void cube_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgName("cells");
+  for (int n : {16, 32, 64, 128}) b->Arg(n);
+}
+
+/// Reports `items` per iteration, each counted as `bytes_per_item` bytes (the byte
+/// count documented at the top of each benchmark file), as items/s and bytes/s.
+inline void report(benchmark::State& state, long items, double bytes_per_item) {
+  state.SetItemsProcessed(state.iterations() * items);
+  state.SetBytesProcessed(int64_t(state.iterations() * items * bytes_per_item));
+  state.counters["bytes_per_item"] = bytes_per_item;
 }
 
 /// Seconds of one fenced call of f.
