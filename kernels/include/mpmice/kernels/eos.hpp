@@ -62,12 +62,24 @@ KOKKOS_INLINE_FUNCTION double eos_dp_de(const Eos& e, double rho_micro, double /
   return e.type == EosType::ideal_gas ? (e.gamma - 1.0) * rho_micro : 0.0;
 }
 
-/// Micro density from pressure and temperature, the inverse of eos_pressure.
-KOKKOS_INLINE_FUNCTION double eos_density(const Eos& e, double press, double temp) {
+/// Whether the modified law in tension (E52) gives a solid's density at `press`.
+KOKKOS_INLINE_FUNCTION bool eos_tension_law(const Eos& e, double press) {
+  return e.type == EosType::solid && e.modified && press < e.p_ref;
+}
+
+/// Micro density from pressure and temperature where eos_tension_law does not hold
+/// (E48, E51). Without the tension law's call to pow, a loop over cells that uses this
+/// vectorises; its cells in tension are then redone with eos_density (node_to_cell).
+KOKKOS_INLINE_FUNCTION double eos_density_outside_tension(const Eos& e, double press, double temp) {
   if (e.type == EosType::ideal_gas) return ideal_gas_density(e, press, temp);
-  if (e.modified && press < e.p_ref) return e.rho0 * math::pow(press / e.p_ref, e.p_ref / e.bulk);
   const double x = (press - e.p_ref) / e.bulk;
   return e.rho0 * (x + math::sqrt(x * x + 1.0));
+}
+
+/// Micro density from pressure and temperature, the inverse of eos_pressure.
+KOKKOS_INLINE_FUNCTION double eos_density(const Eos& e, double press, double temp) {
+  if (eos_tension_law(e, press)) return e.rho0 * math::pow(press / e.p_ref, e.p_ref / e.bulk);
+  return eos_density_outside_tension(e, press, temp);
 }
 
 /// Squared sound speed: dp/drho + dp/de p / rhoM^2 for a gas (E47); K / rhoM for the
