@@ -55,7 +55,8 @@ KOKKOS_FORCEINLINE_FUNCTION void add_weighted_node_sums(const ConstField3& weigh
 /// solid's equation of state at last step's pressure, rhoM_CM(p^n, T) (pitfall P1),
 /// which is where the equilibration starts. The cells where the modified law in
 /// tension applies get it in a second, scalar pass: its pow in the first loop kept
-/// that loop from vectorising (1.4-1.7x slower; docs/performance.md, session 18).
+/// that loop from vectorising (the two passes: 1.3-1.6x faster; docs/performance.md,
+/// session 18). Every cell gets what eos_density gives.
 inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m, const Eos& eos,
                          const ConstField3& weight, const ConstField4& node_mass,
                          const ConstVectorField4& node_vel, const ConstField4& node_temp,
