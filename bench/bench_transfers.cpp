@@ -50,7 +50,7 @@ void BM_node_to_cell(benchmark::State& state) {
   Eos copper;
   copper.type = EosType::solid;
   copper.rho0 = 8930;
-  copper.bulk = 1.37e11;
+  copper.bulk = 136.35e9;
   copper.modified = true;
   const Field3 weight = make_field("weight", p, Location::node);
   Kokkos::deep_copy(weight, 0.125);

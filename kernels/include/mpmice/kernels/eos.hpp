@@ -62,14 +62,17 @@ KOKKOS_INLINE_FUNCTION double eos_dp_de(const Eos& e, double rho_micro, double /
   return e.type == EosType::ideal_gas ? (e.gamma - 1.0) * rho_micro : 0.0;
 }
 
-/// Whether the modified law in tension (E52) gives a solid's density at `press`.
+/// Whether the material has the modified law in tension (E52): a `modified` solid.
+KOKKOS_INLINE_FUNCTION bool eos_has_tension_law(const Eos& e) { return e.type == EosType::solid && e.modified; }
+
+/// Whether the modified law in tension (E52) gives the material's density at `press`.
 KOKKOS_INLINE_FUNCTION bool eos_tension_law(const Eos& e, double press) {
-  return e.type == EosType::solid && e.modified && press < e.p_ref;
+  return eos_has_tension_law(e) && press < e.p_ref;
 }
 
 /// Micro density from pressure and temperature where eos_tension_law does not hold
-/// (E48, E51). Without the tension law's call to pow, a loop over cells that uses this
-/// vectorises; its cells in tension are then redone with eos_density (node_to_cell).
+/// (E48, E51). Without the tension law's call to pow, a host loop over cells that uses
+/// this vectorises; its cells in tension are then redone with eos_density (node_to_cell).
 KOKKOS_INLINE_FUNCTION double eos_density_outside_tension(const Eos& e, double press, double temp) {
   if (e.type == EosType::ideal_gas) return ideal_gas_density(e, press, temp);
   const double x = (press - e.p_ref) / e.bulk;

@@ -53,10 +53,11 @@ KOKKOS_FORCEINLINE_FUNCTION void add_weighted_node_sums(const ConstField3& weigh
 /// u_r = sum w m v / m_r, T_r = (1 - z) T_r^n + z sum w m T / m_r with
 /// z = (m_r - m_small)/m_r, rho_r = m_r / V. The specific volume is set from the
 /// solid's equation of state at last step's pressure, rhoM_CM(p^n, T) (pitfall P1),
-/// which is where the equilibration starts. The cells where the modified law in
-/// tension applies get it in a second, scalar pass: its pow in the first loop kept
-/// that loop from vectorising (the two passes: 1.3-1.6x faster; docs/performance.md,
-/// session 18). Every cell gets what eos_density gives.
+/// which is where the equilibration starts. Every cell gets what eos_density gives. On
+/// the host the cells where the modified law in tension applies get it in a second
+/// pass, scalar (pow): in the first loop its pow kept that loop from vectorising (the
+/// two passes: 1.3-1.6x faster; docs/performance.md, session 18). A GPU backend takes
+/// eos_density in the one loop.
 inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m, const Eos& eos,
                          const ConstField3& weight, const ConstField4& node_mass,
                          const ConstVectorField4& node_vel, const ConstField4& node_temp,
@@ -71,13 +72,19 @@ inline void node_to_cell(const IndexBox& cells, double cell_volume, int s, int m
     temp(m, i, j, k) = t;
     unrolled_for<3>([&](int d) { vel[d](m, i, j, k) = mom[d] / mass; });
     rho(m, i, j, k) = mass / cell_volume;
+#if defined(MPMICE_DEVICE_BACKEND)
+    sp_vol(m, i, j, k) = 1.0 / eos_density(eos, press(i, j, k), t);
+#else
     sp_vol(m, i, j, k) = 1.0 / eos_density_outside_tension(eos, press(i, j, k), t);
+#endif
   });
-  if (eos.type != EosType::solid || !eos.modified) return;
+#if !defined(MPMICE_DEVICE_BACKEND)
+  if (!eos_has_tension_law(eos)) return;
   for_each_index("mpmice::node_to_cell_tension", cells, KOKKOS_LAMBDA(long i, long j, long k) {
     const double p = press(i, j, k);
     if (eos_tension_law(eos, p)) sp_vol(m, i, j, k) = 1.0 / eos_density(eos, p, temp(m, i, j, k));
   });
+#endif
 }
 
 /// The heaviest particle of a set (0 if empty): the driver makes it global and takes
