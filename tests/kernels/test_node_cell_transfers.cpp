@@ -85,6 +85,17 @@ auto on_host(const View& v) {
   return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
 }
 
+// f(i, j, k) for every owned cell of `t`; returns how many.
+template <class F>
+int for_each_owned_cell(const Transfer& t, const F& f) {
+  const IndexBox cells = t.patch.owned_cells();
+  int count = 0;
+  for (int i = cells.lo[0]; i < cells.hi[0]; ++i)
+    for (int j = cells.lo[1]; j < cells.hi[1]; ++j)
+      for (int k = cells.lo[2]; k < cells.hi[2]; ++k, ++count) f(i, j, k);
+  return count;
+}
+
 }  // namespace
 
 TEST(NodeToCell, CellValuesFromTheirEightNodes) {
@@ -99,38 +110,33 @@ TEST(NodeToCell, CellValuesFromTheirEightNodes) {
   const auto nu = on_host(t.node_vel[0]), nv = on_host(t.node_vel[1]), nw = on_host(t.node_vel[2]);
   const auto u = on_host(t.vel[0]), v = on_host(t.vel[1]), ww = on_host(t.vel[2]);
   const double V = t.patch.grid.cell_volume(), m_small = tiny_rho * V;
-  const IndexBox cells = t.patch.owned_cells();
-  int checked = 0;
-  for (int i = cells.lo[0]; i < cells.hi[0]; ++i)
-    for (int j = cells.lo[1]; j < cells.hi[1]; ++j)
-      for (int k = cells.lo[2]; k < cells.hi[2]; ++k) {
-        double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b)
-            for (int c = 0; c < 2; ++c) {
-              const double wm = w(i + a, j + b, k + c) * nm(0, i + a, j + b, k + c);
-              mass += wm;
-              mom[0] += wm * nu(0, i + a, j + b, k + c);
-              mom[1] += wm * nv(0, i + a, j + b, k + c);
-              mom[2] += wm * nw(0, i + a, j + b, k + c);
-              heat += wm * nt(0, i + a, j + b, k + c);
-            }
-        const double z = (mass - m_small) / mass;
-        const double T = (1.0 - z) * temp_before(0, i, j, k) + z * heat / mass;
-        // The kernel may fuse other products into FMAs than this loop: a few roundings
-        // (1.1e-16 each) of sums of 8 positive terms, so 1e-14 relative; the
-        // velocities' sums mix signs, so theirs is 1e-14 of the largest speed, 5 m/s.
-        const double tol = 1e-14;
-        const std::string cell = std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(k);
-        EXPECT_NEAR(rho(0, i, j, k), mass / V, tol * mass / V) << cell;
-        EXPECT_NEAR(temp(0, i, j, k), T, tol * T) << cell;
-        EXPECT_NEAR(u(0, i, j, k), mom[0] / mass, tol * 5) << cell;
-        EXPECT_NEAR(v(0, i, j, k), mom[1] / mass, tol * 5) << cell;
-        EXPECT_NEAR(ww(0, i, j, k), mom[2] / mass, tol * 5) << cell;
-        const double expected = 1.0 / eos_density(copper(), p(i, j, k), temp(0, i, j, k));
-        EXPECT_NEAR(sp_vol(0, i, j, k), expected, tol * expected) << cell;
-        ++checked;
-      }
+  const int checked = for_each_owned_cell(t, [&](int i, int j, int k) {
+    double mass = m_small, mom[3] = {0, 0, 0}, heat = 0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const double wm = w(i + a, j + b, k + c) * nm(0, i + a, j + b, k + c);
+          mass += wm;
+          mom[0] += wm * nu(0, i + a, j + b, k + c);
+          mom[1] += wm * nv(0, i + a, j + b, k + c);
+          mom[2] += wm * nw(0, i + a, j + b, k + c);
+          heat += wm * nt(0, i + a, j + b, k + c);
+        }
+    const double z = (mass - m_small) / mass;
+    const double T = (1.0 - z) * temp_before(0, i, j, k) + z * heat / mass;
+    // The kernel may fuse other products into FMAs than this loop: a few roundings
+    // (1.1e-16 each) of sums of 8 positive terms, so 1e-14 relative; the
+    // velocities' sums mix signs, so theirs is 1e-14 of the largest speed, 5 m/s.
+    const double tol = 1e-14;
+    const std::string cell = std::to_string(i) + " " + std::to_string(j) + " " + std::to_string(k);
+    EXPECT_NEAR(rho(0, i, j, k), mass / V, tol * mass / V) << cell;
+    EXPECT_NEAR(temp(0, i, j, k), T, tol * T) << cell;
+    EXPECT_NEAR(u(0, i, j, k), mom[0] / mass, tol * 5) << cell;
+    EXPECT_NEAR(v(0, i, j, k), mom[1] / mass, tol * 5) << cell;
+    EXPECT_NEAR(ww(0, i, j, k), mom[2] / mass, tol * 5) << cell;
+    const double expected = 1.0 / eos_density(copper(), p(i, j, k), temp(0, i, j, k));
+    EXPECT_NEAR(sp_vol(0, i, j, k), expected, tol * expected) << cell;
+  });
   EXPECT_EQ(checked, 5 * 4 * 6);
 }
 
@@ -142,29 +148,26 @@ TEST(NodeToCell, CellsInTensionTakeTheModifiedLaw) {
   t.run(eos);
   const auto p = on_host(t.press);
   const auto temp = on_host(t.temp), sp_vol = on_host(t.sp_vol);
-  const IndexBox cells = t.patch.owned_cells();
   int tension = 0, compression = 0;
-  for (int i = cells.lo[0]; i < cells.hi[0]; ++i)
-    for (int j = cells.lo[1]; j < cells.hi[1]; ++j)
-      for (int k = cells.lo[2]; k < cells.hi[2]; ++k) {
-        const double pc = p(i, j, k), T = temp(0, i, j, k);
-        const bool in_tension = pc < eos.p_ref;
-        (in_tension ? tension : compression) += 1;
-        // The same functions of the same values. Outside tension within 4 ulps, should a
-        // compiler fuse x^2 + 1 into an FMA in the vector loop and not here; in tension
-        // the same pow on the host, so to the last bit (a GPU's pow may differ by ulps).
-        const double expected = 1.0 / eos_density(eos, pc, T);
+  for_each_owned_cell(t, [&](int i, int j, int k) {
+    const double pc = p(i, j, k), T = temp(0, i, j, k);
+    const bool in_tension = pc < eos.p_ref;
+    (in_tension ? tension : compression) += 1;
+    // The same functions of the same values. Outside tension within 4 ulps, should a
+    // compiler fuse x^2 + 1 into an FMA in the vector loop and not here; in tension
+    // the same pow on the host, so to the last bit (a GPU's pow may differ by ulps).
+    const double expected = 1.0 / eos_density(eos, pc, T);
 #if !defined(MPMICE_DEVICE_BACKEND)
-        if (in_tension) EXPECT_EQ(sp_vol(0, i, j, k), expected) << i << " " << j << " " << k;
+    if (in_tension) EXPECT_EQ(sp_vol(0, i, j, k), expected) << i << " " << j << " " << k;
 #endif
-        EXPECT_DOUBLE_EQ(sp_vol(0, i, j, k), expected) << i << " " << j << " " << k;
-        if (in_tension) {
-          // The laws differ by about (p_ref/K) d^2/2 relative, d = p/p_ref - 1: by more
-          // than 3.7e-9 below 0.9 p_ref, where 4 ulps are 1e-15.
-          const double bulk_law = 1.0 / eos_density_outside_tension(eos, pc, T);
-          if (pc < 0.9 * eos.p_ref) EXPECT_GT(std::abs(sp_vol(0, i, j, k) - bulk_law), 1e-10 * bulk_law);
-        }
-      }
+    EXPECT_DOUBLE_EQ(sp_vol(0, i, j, k), expected) << i << " " << j << " " << k;
+    if (in_tension) {
+      // The laws differ by about (p_ref/K) d^2/2 relative, d = p/p_ref - 1: by more
+      // than 3.7e-9 below 0.9 p_ref, where 4 ulps are 1e-15.
+      const double bulk_law = 1.0 / eos_density_outside_tension(eos, pc, T);
+      if (pc < 0.9 * eos.p_ref) EXPECT_GT(std::abs(sp_vol(0, i, j, k) - bulk_law), 1e-10 * bulk_law);
+    }
+  });
   EXPECT_GT(tension, 10);
   EXPECT_GT(compression, 10);
 }
@@ -177,17 +180,13 @@ TEST(NodeToCell, UnmodifiedSolidKeepsTheBulkLawInTension) {
   t.run(eos);
   const auto p = on_host(t.press);
   const auto temp = on_host(t.temp), sp_vol = on_host(t.sp_vol);
-  const IndexBox cells = t.patch.owned_cells();
   int tension = 0;
-  for (int i = cells.lo[0]; i < cells.hi[0]; ++i)
-    for (int j = cells.lo[1]; j < cells.hi[1]; ++j)
-      for (int k = cells.lo[2]; k < cells.hi[2]; ++k) {
-        const double pc = p(i, j, k), T = temp(0, i, j, k);
-        tension += pc < eos.p_ref ? 1 : 0;
-        // Within 4 ulps, as in CellsInTensionTakeTheModifiedLaw; the modified law would
-        // differ by more than 3.7e-9 below 0.9 p_ref.
-        EXPECT_DOUBLE_EQ(sp_vol(0, i, j, k), 1.0 / eos_density_outside_tension(eos, pc, T))
-            << i << " " << j << " " << k;
-      }
+  for_each_owned_cell(t, [&](int i, int j, int k) {
+    const double pc = p(i, j, k), T = temp(0, i, j, k);
+    tension += pc < eos.p_ref ? 1 : 0;
+    // Within 4 ulps, as in CellsInTensionTakeTheModifiedLaw; the modified law would
+    // differ by more than 3.7e-9 below 0.9 p_ref.
+    EXPECT_DOUBLE_EQ(sp_vol(0, i, j, k), 1.0 / eos_density_outside_tension(eos, pc, T)) << i << " " << j << " " << k;
+  });
   EXPECT_GT(tension, 10);
 }
