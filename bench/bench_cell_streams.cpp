@@ -5,10 +5,11 @@
 // It runs over the owned cells of a patch with 2 ghost layers (the driver's layout: rows
 // n + 4 cells apart, so for even n the owned cells of a row start 16 or 48 B into a
 // cache line, every 64-byte vector spanning two lines), and over the same arrays with no
-// ghost layers (rows contiguous, every vector on one line). In a stand-alone loop on
-// this project's machine, 52 streams on misaligned rows ran at half the rate of aligned
-// ones, where 5 or 12 streams lost nothing (docs/performance.md, session 18); here the
-// two layouts differ by 1.0-1.7x. The exchange's roof is this benchmark, not the triad.
+// ghost layers (rows contiguous, every vector on one line). In a plain loop on this
+// project's machine (mpmice_row_alignment, row_alignment.cpp), 52 arrays on misaligned
+// rows ran at half the rate of aligned ones and 13 lost little (docs/performance.md,
+// session 18); here the two layouts differ by 0.8-1.7x. The exchange's roof is this
+// benchmark, not the triad.
 #include <benchmark/benchmark.h>
 
 #include <mpmice/kernels/loops.hpp>
