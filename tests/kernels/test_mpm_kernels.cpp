@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -433,6 +434,86 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
       skipped += Quantum(q.mass).round(wt.weight(i >> 2, (i >> 1) & 1, i & 1) * 2e-12) == 0.0;
   }
   EXPECT_GT(skipped, 0);
+}
+
+// With the linear shape g2p reads the node values of a group of 8 consecutive particles
+// once for the group when they all lie in one of two cells (reduce_over_particle_groups,
+// ReadTwoCells), else particle by particle (ReadOwnNodes). Either way every particle
+// must get the same values, bit for bit, as reading particle by particle throughout:
+// groups in one, two and more cells (runs of many, one and no particles, an unsorted
+// tail), and particles on a node plane, whose nodes above it have a weight of exactly 0
+// (ReadTwoCells reads them; ReadOwnNodes reads the particle's middle node instead), with
+// every node field g2p reads (the heat and the transfers' terms included).
+TEST(Transfer, LinearG2pGroupsReadAsOneParticleAtATime) {
+  const Patch patch = whole_patch({6, 5, 4}, {0.125, 0.25, 0.125});  // node planes exact in binary
+  const NodeGrid grid = node_grid(patch);
+  std::mt19937_64 rng(29);
+  const ParticleSet grouped = cell_run_particles(patch, rng, [&](auto& h, long p, auto& u) {
+    for (int d = 0; d < 3; ++d) {
+      h(p, column(ParticleField::vx) + d) = u() - 0.5;
+      for (int e = 0; e < 3; ++e) h(p, tensor_column(ParticleField::F00, d, e)) = (d == e) + 0.02 * (u() - 0.5);
+    }
+    h(p, column(ParticleField::temperature)) = 300 + 100 * u();
+    h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
+    h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
+    const int d = int(p % 3);  // every 4th particle onto the node plane below it along d
+    const double h_d = patch.grid.spacing[d];
+    double& x = h(p, column(ParticleField::x) + d);
+    if (p % 4 == 1) x = std::floor(x / h_d) * h_d;
+  });
+  const long n = long(grouped.size());
+  ParticleSet each("each", n);
+  each.resize(n);
+  Kokkos::deep_copy(each.data(), grouped.data());
+
+  // Every node field g2p reads, drawn at random: v*, the acceleration, the heat rate and
+  // the transfers' energy.
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const auto random_node_field = [&](const char* name) {
+    const Field4 f = make_field(name, patch, Location::node, 1);
+    auto h = Kokkos::create_mirror_view(f);
+    for (std::size_t i = 0; i < h.span(); ++i) h.data()[i] = uniform(rng);
+    Kokkos::deep_copy(f, h);
+    return f;
+  };
+  const ConstVectorField4 vel{random_node_field("vx"), random_node_field("vy"), random_node_field("vz")};
+  const ConstVectorField4 acc{random_node_field("ax"), random_node_field("ay"), random_node_field("az")};
+  const Field4 temp_rate = random_node_field("temp_rate");
+  const TransferHeat transfer{random_node_field("energy"), 400.0};
+  const double dt = 1e-3;  // |L| dt < 1: no particle needs sub-steps (which only g2p does)
+  const auto before = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
+  g2p<LinearShape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
+  const double substepped = detail::g2p_deforming<LinearShape, true, true>(
+      grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate, transfer, /*in_groups=*/false);
+  ASSERT_EQ(substepped, 0.0);
+
+  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
+  auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), each.data());
+  long differing = 0;
+  for (long p = 0; p < n; ++p)
+    for (int c = 0; c < particle_field_count; ++c) differing += std::memcmp(&a(p, c), &b(p, c), sizeof(double)) != 0;
+  EXPECT_EQ(differing, 0) << "of " << n * particle_field_count << " entries";
+
+  // Both reads were taken: groups of 8 (as reduce_over_particle_groups forms them, from
+  // the start of each run of detail::particle_run particles) in at most two cells, and
+  // groups in more.
+  const auto cell_of = [&](long p) {
+    double x[3], half[3];
+    particle_position(before, p, x, half);
+    const ParticleWeights<LinearShape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    return std::array<long, 3>{long(wt.first[0]), long(wt.first[1]), long(wt.first[2])};
+  };
+  long in_two = 0, in_more = 0;
+  for (long run = 0; run < n; run += detail::particle_run)
+    for (long g = run; g + detail::particle_group <= std::min(n, run + detail::particle_run);
+         g += detail::particle_group) {
+      bool two = true;
+      const long last = g + detail::particle_group - 1;
+      for (long p = g + 1; p < last; ++p) two = two && (cell_of(p) == cell_of(g) || cell_of(p) == cell_of(last));
+      (two ? in_two : in_more) += 1;
+    }
+  EXPECT_GT(in_two, 10);
+  EXPECT_GT(in_more, 10);
 }
 
 // Quantum::round against its definition, computed here without the magic number:

@@ -6,6 +6,7 @@
 ///        positions.
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
+#include <mpmice/kernels/node_reads.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/shape.hpp>
 #include <mpmice/kernels/solid_models.hpp>
@@ -44,23 +45,30 @@ struct TransferHeat {
 };
 
 namespace detail {
-/// (E35, E36) for the particles of a material that deforms; `Heat`: temp_rate given;
-/// `Transfer`: the heat of `TransferHeat` too.
-/// Returns 1 if a particle's deformation needs more than one sub-step (its F and V are
-/// then left for `g2p_substeps`), else 0.
+/// (E35, E36) for particle p of a material that deforms, its node values read through
+/// `read` (node_reads.hpp); `Heat`: temp_rate given; `Transfer`: the heat of
+/// `TransferHeat` too. Returns 1 if the particle's deformation needs more than one
+/// sub-step (its F and V are then left for `g2p_substeps`), else 0.
 template <class Shape, bool Heat, bool Transfer>
-double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
-                     double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
-                     const ConstField4& temp_rate, const TransferHeat& transfer) {
-  constexpr int n = Shape::nodes;
-  const NodeStencil<n> nodes(vel_star[0], m);
-  const Kokkos::Array<ConstNodeArray, 3> v_node = {node_array(vel_star[0]), node_array(vel_star[1]),
-                                                   node_array(vel_star[2])};
-  const Kokkos::Array<ConstNodeArray, 3> a_node = {node_array(acc[0]), node_array(acc[1]), node_array(acc[2])};
-  const ConstNodeArray t_node = node_array(temp_rate);
-  const ConstNodeArray q_node = node_array(transfer.node_energy);
-  const double inverse_cv = Transfer ? 1.0 / transfer.cv : 0.0;
-  return reduce_over_particles<Reduction::max>("mpmice::g2p", count, KOKKOS_LAMBDA(long p) {
+struct G2pParticle {
+  NodeGrid grid;
+  ParticleData data;
+  NodeStencil<Shape::nodes> nodes;
+  Kokkos::Array<ConstNodeArray, 3> v_node, a_node;
+  ConstNodeArray t_node, q_node;
+  double dt, pic_fraction, inverse_cv;
+
+  KOKKOS_FORCEINLINE_FUNCTION ParticleWeights<Shape> weights(long p) const {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    return ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half);
+  }
+  /// The place of particle p's first node (reduce_over_particle_groups).
+  KOKKOS_FORCEINLINE_FUNCTION long first(long p) const { return nodes.at(weights(p).first); }
+
+  template <class Read>
+  KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {
+    constexpr int n = Shape::nodes;
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
@@ -71,16 +79,16 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
           const double S = wt.weight(a, b, c);
-          const long o = nodes.place(first, middle, a, b, c, S);
+          const auto node = read.node(first, middle, nodes.step(a, b, c), S);
           double g[3];
           wt.gradient(a, b, c, g);
           for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
-          if (Heat) ts += S * t_node(o);
-          if (Transfer) qs += S * q_node(o);
+          if (Heat) ts += S * node(t_node);
+          if (Transfer) qs += S * node(q_node);
           for (int d = 0; d < 3; ++d) {
-            const double v = v_node[d](o);
+            const double v = node(v_node[d]);
             vs[d] += S * v;
-            const double an = a_node[d](o);
+            const double an = node(a_node[d]);
             as[d] += S * an;
             if (Transfer) a2s += S * an * an;
             for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
@@ -119,7 +127,33 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
     volume = one_step ? volume * (F_new.det() / F.det()) : volume;
     store_tensor(data, p, ParticleField::F00, one_step ? F_new : F);
     return one_step ? 0.0 : 1.0;
-  });
+  }
+};
+
+/// (E35, E36) for the particles of a material that deforms (G2pParticle). With the
+/// linear shape and `in_groups`, groups of 8 particles in at most two cells read their
+/// cells' node values once for the group instead of gathering them particle by particle
+/// (reduce_over_particle_groups; 1.5-2.2x on 1 thread, docs/performance.md, session 19);
+/// `in_groups` false reads them particle by particle (the tests compare the two).
+/// Returns 1 if a particle's deformation needs more than one sub-step, else 0.
+template <class Shape, bool Heat, bool Transfer>
+double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
+                     double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
+                     const ConstField4& temp_rate, const TransferHeat& transfer, bool in_groups = true) {
+  const G2pParticle<Shape, Heat, Transfer> body{grid,
+                                                data,
+                                                NodeStencil<Shape::nodes>(vel_star[0], m),
+                                                {node_array(vel_star[0]), node_array(vel_star[1]), node_array(vel_star[2])},
+                                                {node_array(acc[0]), node_array(acc[1]), node_array(acc[2])},
+                                                node_array(temp_rate),
+                                                node_array(transfer.node_energy),
+                                                dt,
+                                                pic_fraction,
+                                                Transfer ? 1.0 / transfer.cv : 0.0};
+  if constexpr (Shape::nodes == 2)
+    if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
+  return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
+                                               KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
 }
 
 /// F and V of the particles whose deformation needs more than one sub-step (E36).
@@ -144,8 +178,10 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
 /// A rigid material moves with `rigid_velocity`.
 ///
 /// The loop over particles vectorises (loops.hpp): the nodes are written out, a node of
-/// zero weight adds nothing (NodeStencil::place), and a particle whose deformation needs
-/// more than one sub-step (|L| dt >= 1, rare) is finished by a second, scalar pass.
+/// zero weight adds nothing (ReadOwnNodes, node_reads.hpp), and a particle whose
+/// deformation needs more than one sub-step (|L| dt >= 1, rare) is finished by a second,
+/// scalar pass. With the linear shape, groups of particles in at most two cells read
+/// their node values once per group (reduce_over_particle_groups).
 template <class Shape>
 void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
          double pic_fraction, bool rigid, Kokkos::Array<double, 3> rigid_velocity,

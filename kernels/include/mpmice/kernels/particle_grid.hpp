@@ -70,13 +70,6 @@ struct NodeStencil {
     constexpr int mid = (Nodes - 1) / 2;
     return first + step(mid, mid, mid);
   }
-  /// The place of node (a, b, c), or `middle` if its weight S is zero: such a node adds
-  /// nothing, and a particle loop without branches (loops.hpp) then reads no node
-  /// outside the particle's reach. Arithmetic, not a select: GCC turned the select into
-  /// masked loads, which it cannot vectorise here.
-  KOKKOS_INLINE_FUNCTION long place(long first, long middle, int a, int b, int c, double S) const {
-    return middle + long(S != 0.0) * (first + step(a, b, c) - middle);
-  }
 };
 
 /// Loads and stores of a particle's tensor are written out (`unrolled_for`), so that a

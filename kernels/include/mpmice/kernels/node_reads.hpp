@@ -1,0 +1,138 @@
+#pragma once
+/// \file node_reads.hpp
+/// \brief How a particle loop that reads node values (g2p) reads them: each particle
+///        its own nodes (`ReadOwnNodes`; across a vector of particles, one gather per
+///        node and field), or, for a group of particles that all lie in one of two
+///        cells (`ReadTwoCells`; with the linear shape the particles of a set sorted by
+///        cell), both cells' values, the same for every particle, and a select.
+///        `reduce_over_particle_groups` chooses between them group by group.
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/particle_grid.hpp>
+
+namespace mpmice {
+
+/// Each particle reads node (first + step) of its own, or its `middle` node where the
+/// node's weight S is zero: such a node adds nothing, and a particle loop without
+/// branches then reads no node outside the particle's reach (GIMP's nodes of zero weight
+/// can lie past the patch's ghost nodes). Arithmetic, not a select: GCC turned the select
+/// into masked loads, which it could not vectorise here.
+struct ReadOwnNodes {
+  struct Node {
+    long place;
+    KOKKOS_FORCEINLINE_FUNCTION double operator()(const ConstNodeArray& field) const { return field(place); }
+  };
+  KOKKOS_FORCEINLINE_FUNCTION Node node(long first, long middle, long step, double S) const {
+    return {middle + long(S != 0.0) * (first + step - middle)};
+  }
+};
+
+/// Every particle of the group has its first node at `lo` or at `hi`, and reads node
+/// (first + step) of it: both values are loaded, the same for the whole group (in a
+/// vector loop two broadcasts, hoisted out of it, instead of a gather), and selected.
+/// Only for a shape whose nodes (first + step) are the nodes of the particle's cell (the
+/// linear shape): one of zero weight (a particle on a node plane) is read and, its value
+/// finite, adds nothing, as ReadOwnNodes's middle node adds nothing.
+struct ReadTwoCells {
+  long lo, hi;
+  struct Node {
+    long at_lo, at_hi;
+    std::uint64_t lower;  ///< all bits set for a particle whose first node is at lo, else 0
+    KOKKOS_FORCEINLINE_FUNCTION double operator()(const ConstNodeArray& field) const {
+      // The select on the values' bits: written as `?:`, GCC 12 moved the two loads
+      // into its arms, as masked loads of one place for the whole vector, which it
+      // cannot vectorise.
+      const double a = field(at_lo), b = field(at_hi);
+      std::uint64_t bits_a, bits_b;
+      std::memcpy(&bits_a, &a, sizeof a);
+      std::memcpy(&bits_b, &b, sizeof b);
+      const std::uint64_t bits = (bits_a & lower) | (bits_b & ~lower);
+      double value;
+      std::memcpy(&value, &bits, sizeof value);
+      return value;
+    }
+  };
+  KOKKOS_FORCEINLINE_FUNCTION Node node(long first, long /*middle*/, long step, double /*S*/) const {
+    return {lo + step, hi + step, std::uint64_t(0) - std::uint64_t(first == lo)};
+  }
+};
+
+namespace detail {
+/// Particles per group of `reduce_over_particle_groups`: 8 doubles, one 512-bit vector
+/// (two 256-bit ones). Runs of `particle_run` particles hold whole groups.
+constexpr long particle_group = 8;
+static_assert(particle_run % particle_group == 0, "runs of whole groups");
+
+/// body(p, read) for the group of particles from `lo`, as one vector loop whose length
+/// is known (no remainder), combined as R does.
+template <Reduction R, class Body, class Read>
+KOKKOS_FORCEINLINE_FUNCTION double group_reduce(const Body& body, long lo, const Read& read) {
+  double acc = 0;
+  if constexpr (R == Reduction::sum) {
+#if defined(MPMICE_HOST_SIMD)
+#pragma omp simd reduction(+ : acc)
+#endif
+    for (long l = 0; l < particle_group; ++l) acc += body(lo + l, read);
+  } else {
+#if defined(MPMICE_HOST_SIMD)
+#pragma omp simd reduction(max : acc)
+#endif
+    for (long l = 0; l < particle_group; ++l) {
+      const double v = body(lo + l, read);
+      acc = v > acc ? v : acc;
+    }
+  }
+  return acc;
+}
+
+/// One run [lo, hi) of `reduce_over_particle_groups`, flattened (loops.hpp). A group
+/// reads both cells when every particle's first node is the first or the last
+/// particle's (the others counted in a double, as loops.hpp's reductions count); the
+/// run's last, partial group reads its own nodes.
+template <Reduction R, class Body>
+MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, long hi) {
+  const Body body = particle_body;  // its own copy, as simd_run_reduce
+  double acc = 0;
+  long g = lo;
+  for (; g + particle_group <= hi; g += particle_group) {
+    const long lo_first = body.first(g), hi_first = body.first(g + particle_group - 1);
+    double elsewhere = 0;
+#if defined(MPMICE_HOST_SIMD)
+#pragma omp simd reduction(+ : elsewhere)
+#endif
+    for (long l = 0; l < particle_group; ++l) {
+      const long first = body.first(g + l);
+      elsewhere += first != lo_first && first != hi_first ? 1.0 : 0.0;
+    }
+    combine<R>(acc, elsewhere == 0.0 ? group_reduce<R>(body, g, ReadTwoCells{lo_first, hi_first})
+                                     : group_reduce<R>(body, g, ReadOwnNodes{}));
+  }
+  const auto own = [&](long p) { return body(p, ReadOwnNodes{}); };
+  combine<R>(acc, simd_run_reduce<R>(own, g, hi));
+  return acc;
+}
+}  // namespace detail
+
+/// Like `reduce_over_particles`, for a body with `body(p, read)`, particle p's value,
+/// which reads its node values through `read` (ReadOwnNodes or ReadTwoCells), and
+/// `body.first(p)`, the place of particle p's first node (NodeStencil::at). On the host
+/// the particles go in groups of 8 consecutive ones: a group whose first nodes are all
+/// its first or its last particle's reads ReadTwoCells, else ReadOwnNodes. Only for a
+/// shape ReadTwoCells fits (the linear shape). On a GPU every particle reads its own.
+/// The sum's order differs from reduce_over_particles's.
+template <Reduction R, class Body>
+double reduce_over_particle_groups(const std::string& label, long count, const Body& body) {
+#if defined(MPMICE_DEVICE_BACKEND)
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count),
+                                KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
+#else
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
+    return detail::grouped_run_reduce<R>(body, r * detail::particle_run, detail::particle_run_end(r, count));
+  });
+#endif
+}
+
+}  // namespace mpmice
