@@ -140,8 +140,10 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const Node
 
 /// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
 /// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
-/// particles' contributions in registers, vectorised over its 8 nodes, and adds the
-/// sums into the scatter once per node (8 particles per cell: 1/8 of the adds). A node
+/// particles' contributions in registers, the masses as a vector over its 8 nodes, then
+/// each node's other 8 fields as one vector over the fields (as they lie in the node's
+/// row of the scatter), and adds the sums into the scatter once per node, again 8
+/// fields at once (8 particles per cell: 1/8 of the adds). A node
 /// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
 /// run counts each contribution in its quantum (Quantum::in_units: 2 vector operations,
 /// against 3 for the rounded value) and multiplies by the quantum when it adds into the
@@ -154,34 +156,39 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
-    double units[F][N] = {};
+    double mass_units[N] = {}, units[N][F - 1] = {};
     // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
-        if (units[0][a] != 0.0) {
+        if (mass_units[a] != 0.0) {
           const long row = run_first + rows.steps[a];
-          for (int f = 0; f < F; ++f) node(row, f) += units[f][a] * quanta.unit[f];
+          node(row, 0) += mass_units[a] * quanta.unit[0];
+          MPMICE_PRAGMA_SIMD
+          for (int f = 1; f < F; ++f) node(row, f) += units[a][f - 1] * quanta.unit[f];
         }
+        mass_units[a] = 0.0;
+        for (int f = 0; f < F - 1; ++f) units[a][f] = 0.0;
       });
-      for (int f = 0; f < F; ++f)
-        for (int a = 0; a < N; ++a) units[f][a] = 0.0;
     };
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       double value[F];
       p2g_values(data, p, value);
-      // A vector loop over the nodes, without branches (Quantum::in_units), and a
-      // double, not a bool, choosing the kept nodes: either kept GCC 12 from
-      // vectorising it (docs/design.md, "Particle loops"). A long index: with an int
-      // one GCC 12 sized the vectors for 8 ints and used two 256-bit halves per field;
-      // with a long, the 8 nodes are one 512-bit vector where the CPU has them.
+      // The weights kept (0 for a node left out) over the nodes, without branches
+      // (Quantum::in_units) and with a double, not a bool, choosing: either kept GCC 12
+      // from vectorising the loop (docs/design.md, "Particle loops"). A long index: with
+      // an int GCC 12 sized the vectors for 8 ints, two 256-bit halves per double.
+      double kept[N];
       MPMICE_PRAGMA_SIMD
       for (long a = 0; a < N; ++a) {
         const double S = linear_node_weight(wt, a);
-        const double mass = quantum[0].in_units(S * value[0]);  // 0 for a node left out
-        const double kept = mass != 0.0 ? S : 0.0;
-        units[0][a] += mass;
-        unrolled_for<F - 1>([&](int g) { units[g + 1][a] += quantum[g + 1].in_units(kept * value[g + 1]); });
+        const double mass = quantum[0].in_units(S * value[0]);
+        kept[a] = mass != 0.0 ? S : 0.0;
+        mass_units[a] += mass;
       }
+      unrolled_for<N>([&](int a) {
+        MPMICE_PRAGMA_SIMD
+        for (int f = 1; f < F; ++f) units[a][f - 1] += quanta.in_units(f, kept[a] * value[f]);
+      });
     };
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });

@@ -85,8 +85,10 @@ struct QuantumArray {
       unit[f] = q[f].unit;
     }
   }
-  KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const {
-    return unit[f] * Quantum::nearest_whole(x * scale[f], magic[f]);
+  KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const { return unit[f] * in_units(f, x); }
+  /// q[f].in_units(x) bit for bit.
+  KOKKOS_FORCEINLINE_FUNCTION double in_units(int f, double x) const {
+    return Quantum::nearest_whole(x * scale[f], magic[f]);
   }
 };
 
