@@ -32,6 +32,29 @@ def main():
         speedup = items / one[name]["items_per_second"] if name in one and one[name].get("items_per_second") else 0
         print("| %s | %s | %.3g | %.2f | %.0f%% | %.2f |" % (kernel.replace("BM_", ""), size, items, gbs,
                                                          100 * gbs * 1e9 / triad if triad else 0, speedup))
+    print()
+    mpm_substep(one)
+
+
+def mpm_substep(one):
+    """The issue's whole MPM sub-step with linear weights on 1 thread, in ns per particle:
+    p2g + internal force + g2p + stress (neo-Hookean, benchmarked at 1e6 particles only)
+    + the nodal update (grid_acceleration per node at 64^3 and 128^3 cells, a little more
+    than the particle benchmarks' cubes, at one node per 8 particles)."""
+    def ns(name):
+        b = one.get(name + "/manual_time")
+        return 1e9 / b["items_per_second"] if b and b.get("items_per_second") else None
+    for particles, cells in ((1000000, 64), (4000000, 128)):
+        node = ns("BM_grid_acceleration/cells:%d" % cells)
+        parts = [("p2g", ns("BM_p2g<LinearShape>/particles:%d" % particles)),
+                 ("internal force", ns("BM_internal_force<LinearShape>/particles:%d" % particles)),
+                 ("g2p", ns("BM_g2p<LinearShape>/particles:%d" % particles)),
+                 ("stress", ns("BM_stress_update/particles:1000000/plastic:0")),
+                 ("nodal update", node / 8 if node else None)]
+        if any(v is None for _, v in parts):
+            continue
+        print("MPM sub-step, linear weights, 1 thread, %.0e particles: %.0f ns per particle (%s)" % (
+            particles, sum(v for _, v in parts), ", ".join("%s %.0f" % (k, v) for k, v in parts)))
 
 
 if __name__ == "__main__":
