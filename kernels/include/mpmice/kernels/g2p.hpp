@@ -4,6 +4,8 @@
 ///        fraction) and position (E35), and the particle kinematics: velocity
 ///        gradient, deformation gradient and volume (E36). Weights use the old
 ///        positions.
+#include <type_traits>
+
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/node_reads.hpp>
@@ -57,6 +59,21 @@ struct G2pParticle {
   Kokkos::Array<ConstNodeArray, 3> v_node, a_node;
   ConstNodeArray t_node, q_node;
   double dt, pic_fraction, inverse_cv;
+
+  /// g2p's arguments for material slot m (see there).
+  G2pParticle(const NodeGrid& grid_, const ParticleData& data_, int m, double dt_, double pic_fraction_,
+              const ConstVectorField4& vel_star, const ConstVectorField4& acc, const ConstField4& temp_rate,
+              const TransferHeat& transfer)
+      : grid(grid_),
+        data(data_),
+        nodes(vel_star[0], m),
+        v_node{node_array(vel_star[0]), node_array(vel_star[1]), node_array(vel_star[2])},
+        a_node{node_array(acc[0]), node_array(acc[1]), node_array(acc[2])},
+        t_node(node_array(temp_rate)),
+        q_node(node_array(transfer.node_energy)),
+        dt(dt_),
+        pic_fraction(pic_fraction_),
+        inverse_cv(Transfer ? 1.0 / transfer.cv : 0.0) {}
 
   KOKKOS_FORCEINLINE_FUNCTION ParticleWeights<Shape> weights(long p) const {
     double x[3], half[3];
@@ -131,26 +148,17 @@ struct G2pParticle {
 };
 
 /// (E35, E36) for the particles of a material that deforms (G2pParticle). With the
-/// linear shape and `in_groups`, groups of 8 particles in at most two cells read their
-/// cells' node values once for the group instead of gathering them particle by particle
-/// (reduce_over_particle_groups; 1.5-2.2x on 1 thread, docs/performance.md, session 19);
+/// linear shape and `in_groups`, a group of 8 particles in its first or its last
+/// particle's cell reads their node values once for the group instead of gathering them
+/// particle by particle (reduce_over_particle_groups; docs/performance.md, session 19);
 /// `in_groups` false reads them particle by particle (the tests compare the two).
 /// Returns 1 if a particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
                      const ConstField4& temp_rate, const TransferHeat& transfer, bool in_groups = true) {
-  const G2pParticle<Shape, Heat, Transfer> body{grid,
-                                                data,
-                                                NodeStencil<Shape::nodes>(vel_star[0], m),
-                                                {node_array(vel_star[0]), node_array(vel_star[1]), node_array(vel_star[2])},
-                                                {node_array(acc[0]), node_array(acc[1]), node_array(acc[2])},
-                                                node_array(temp_rate),
-                                                node_array(transfer.node_energy),
-                                                dt,
-                                                pic_fraction,
-                                                Transfer ? 1.0 / transfer.cv : 0.0};
-  if constexpr (Shape::nodes == 2)
+  const G2pParticle<Shape, Heat, Transfer> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
+  if constexpr (std::is_same_v<Shape, LinearShape>)
     if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
   return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
                                                KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });

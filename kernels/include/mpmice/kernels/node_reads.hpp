@@ -30,17 +30,21 @@ struct ReadOwnNodes {
   }
 };
 
-/// Every particle of the group has its first node at `lo` or at `hi`, and reads node
-/// (first + step) of it: both values are loaded, the same for the whole group (in a
-/// vector loop two broadcasts, hoisted out of it, instead of a gather), and selected.
-/// Only for a shape whose nodes (first + step) are the nodes of the particle's cell (the
-/// linear shape): one of zero weight (a particle on a node plane) is read and, its value
-/// finite, adds nothing, as ReadOwnNodes's middle node adds nothing.
+#if !defined(MPMICE_DEVICE_BACKEND)
+/// Every particle of the group has its first node at `first_lo` or at `first_hi`, and
+/// reads node (first + step) of it: both values are loaded, the same for the whole group
+/// (in a vector loop two broadcasts, hoisted out of it, instead of a gather), and
+/// selected. Only for a shape whose nodes (first + step) are the nodes of the particle's
+/// cell (the linear shape): a node of zero weight (a particle on a node plane) is read
+/// where ReadOwnNodes reads the particle's middle node, and, its value finite, adds
+/// nothing either way (with an infinite or NaN value there the particle would get NaN).
+/// Every node of the particle's cell must exist: true for a particle in the patch or
+/// in its ghost cells, whose nodes reach further. Host only (reduce_over_particle_groups).
 struct ReadTwoCells {
-  long lo, hi;
+  long first_lo, first_hi;
   struct Node {
     long at_lo, at_hi;
-    std::uint64_t lower;  ///< all bits set for a particle whose first node is at lo, else 0
+    std::uint64_t lower;  ///< all bits set for a particle whose first node is first_lo, else 0
     KOKKOS_FORCEINLINE_FUNCTION double operator()(const ConstNodeArray& field) const {
       // The select on the values' bits: written as `?:`, GCC 12 moved the two loads
       // into its arms, as masked loads of one place for the whole vector, which it
@@ -56,7 +60,7 @@ struct ReadTwoCells {
     }
   };
   KOKKOS_FORCEINLINE_FUNCTION Node node(long first, long /*middle*/, long step, double /*S*/) const {
-    return {lo + step, hi + step, std::uint64_t(0) - std::uint64_t(first == lo)};
+    return {first_lo + step, first_hi + step, std::uint64_t(0) - std::uint64_t(first == first_lo)};
   }
 };
 
@@ -98,16 +102,16 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
   double acc = 0;
   long g = lo;
   for (; g + particle_group <= hi; g += particle_group) {
-    const long lo_first = body.first(g), hi_first = body.first(g + particle_group - 1);
+    const long first_lo = body.first(g), first_hi = body.first(g + particle_group - 1);
     double elsewhere = 0;
 #if defined(MPMICE_HOST_SIMD)
 #pragma omp simd reduction(+ : elsewhere)
 #endif
     for (long l = 0; l < particle_group; ++l) {
       const long first = body.first(g + l);
-      elsewhere += first != lo_first && first != hi_first ? 1.0 : 0.0;
+      elsewhere += first != first_lo && first != first_hi ? 1.0 : 0.0;
     }
-    combine<R>(acc, elsewhere == 0.0 ? group_reduce<R>(body, g, ReadTwoCells{lo_first, hi_first})
+    combine<R>(acc, elsewhere == 0.0 ? group_reduce<R>(body, g, ReadTwoCells{first_lo, first_hi})
                                      : group_reduce<R>(body, g, ReadOwnNodes{}));
   }
   const auto own = [&](long p) { return body(p, ReadOwnNodes{}); };
@@ -115,19 +119,20 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
   return acc;
 }
 }  // namespace detail
+#endif
 
 /// Like `reduce_over_particles`, for a body with `body(p, read)`, particle p's value,
 /// which reads its node values through `read` (ReadOwnNodes or ReadTwoCells), and
 /// `body.first(p)`, the place of particle p's first node (NodeStencil::at). On the host
 /// the particles go in groups of 8 consecutive ones: a group whose first nodes are all
 /// its first or its last particle's reads ReadTwoCells, else ReadOwnNodes. Only for a
-/// shape ReadTwoCells fits (the linear shape). On a GPU every particle reads its own.
-/// The sum's order differs from reduce_over_particles's.
+/// shape ReadTwoCells fits (the linear shape), with every particle's cell in reach of
+/// the node arrays (see there). On a GPU every particle reads its own (each thread loads
+/// its values: no vector gather to save). The sum's order differs from reduce_over_particles's.
 template <Reduction R, class Body>
 double reduce_over_particle_groups(const std::string& label, long count, const Body& body) {
 #if defined(MPMICE_DEVICE_BACKEND)
-  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count),
-                                KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
+  return reduce_over_particles<R>(label, count, KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
     return detail::grouped_run_reduce<R>(body, r * detail::particle_run, detail::particle_run_end(r, count));
