@@ -75,13 +75,13 @@ struct G2pParticle {
         pic_fraction(pic_fraction_),
         inverse_cv(Transfer ? 1.0 / transfer.cv : 0.0) {}
 
-  KOKKOS_FORCEINLINE_FUNCTION ParticleWeights<Shape> weights(long p) const {
+  /// The place of particle p's first node (reduce_over_particle_groups), as the body
+  /// below finds it.
+  KOKKOS_FORCEINLINE_FUNCTION long first(long p) const {
     double x[3], half[3];
     particle_position(data, p, x, half);
-    return ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half);
+    return nodes.at(ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half).first);
   }
-  /// The place of particle p's first node (reduce_over_particle_groups).
-  KOKKOS_FORCEINLINE_FUNCTION long first(long p) const { return nodes.at(weights(p).first); }
 
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {

@@ -70,28 +70,6 @@ namespace detail {
 constexpr long particle_group = 8;
 static_assert(particle_run % particle_group == 0, "runs of whole groups");
 
-/// body(p, read) for the group of particles from `lo`, as one vector loop whose length
-/// is known (no remainder), combined as R does.
-template <Reduction R, class Body, class Read>
-KOKKOS_FORCEINLINE_FUNCTION double group_reduce(const Body& body, long lo, const Read& read) {
-  double acc = 0;
-  if constexpr (R == Reduction::sum) {
-#if defined(MPMICE_HOST_SIMD)
-#pragma omp simd reduction(+ : acc)
-#endif
-    for (long l = 0; l < particle_group; ++l) acc += body(lo + l, read);
-  } else {
-#if defined(MPMICE_HOST_SIMD)
-#pragma omp simd reduction(max : acc)
-#endif
-    for (long l = 0; l < particle_group; ++l) {
-      const double v = body(lo + l, read);
-      acc = v > acc ? v : acc;
-    }
-  }
-  return acc;
-}
-
 /// One run [lo, hi) of `reduce_over_particle_groups`, flattened (loops.hpp). A group
 /// reads both cells when every particle's first node is the first or the last
 /// particle's (the others counted in a double, as loops.hpp's reductions count); the
@@ -99,6 +77,7 @@ KOKKOS_FORCEINLINE_FUNCTION double group_reduce(const Body& body, long lo, const
 template <Reduction R, class Body>
 MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, long hi) {
   const Body body = particle_body;  // its own copy, as simd_run_reduce
+  const auto own = [&](long p) { return body(p, ReadOwnNodes{}); };
   double acc = 0;
   long g = lo;
   for (; g + particle_group <= hi; g += particle_group) {
@@ -111,10 +90,12 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
       const long first = body.first(g + l);
       elsewhere += first != first_lo && first != first_hi ? 1.0 : 0.0;
     }
-    combine<R>(acc, elsewhere == 0.0 ? group_reduce<R>(body, g, ReadTwoCells{first_lo, first_hi})
-                                     : group_reduce<R>(body, g, ReadOwnNodes{}));
+    // The group as one vector loop of known length, particle_group: no remainder.
+    const ReadTwoCells two{first_lo, first_hi};
+    const auto two_cells = [&](long p) { return body(p, two); };
+    combine<R>(acc, elsewhere == 0.0 ? simd_run_reduce<R>(two_cells, g, g + particle_group)
+                                     : simd_run_reduce<R>(own, g, g + particle_group));
   }
-  const auto own = [&](long p) { return body(p, ReadOwnNodes{}); };
   combine<R>(acc, simd_run_reduce<R>(own, g, hi));
   return acc;
 }
