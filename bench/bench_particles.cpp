@@ -1,5 +1,6 @@
-// Particle kernels of the MPM half, 1e4 .. 4e6 particles, 8 per cell (2 x 2 x 2),
-// sorted by cell. p2g and internal_force round their contributions to quanta as the
+// Particle kernels of the MPM half, 1e4 .. 4e6 particles, 8 per cell, sorted as the
+// driver sorts them (by their shape's window: the cell for the linear shape, the
+// nearest node for GIMP). p2g and internal_force round their contributions to quanta as the
 // driver does (quanta.hpp; `driver_quanta` below). Bytes per particle (the least a structure-of-arrays kernel moves;
 // node fields are few and stay in cache, so they are not counted):
 //  p2g:            reads x (3), size (3), mass, volume, v (3), T, f_ext (3) -> 15 x 8 = 120
@@ -14,6 +15,7 @@
 #include <mpmice/kernels/g2p.hpp>
 #include <mpmice/kernels/internal_force.hpp>
 #include <mpmice/kernels/p2g.hpp>
+#include <mpmice/kernels/particle_sort.hpp>
 #include <mpmice/kernels/particle_totals.hpp>
 #include <mpmice/kernels/stress_update.hpp>
 
@@ -29,6 +31,14 @@ Patch patch_for(long particles) {
   int n = 1;
   while (8L * n * n * n < particles) ++n;
   return cube_patch(n);
+}
+
+// `count` particles of `p` (particles_in) sorted by Shape's window (particle_sort.hpp).
+template <class Shape>
+ParticleSet sorted_particles_in(const Patch& p, long count, unsigned seed) {
+  ParticleSet ps = particles_in(p, count, seed);
+  sort_particles_by_window<Shape>(p, ps);
+  return ps;
 }
 
 // The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp): 2^-40 of the
@@ -54,7 +64,7 @@ void BM_p2g(benchmark::State& state) {
   const long n = state.range(0);
   const Patch p = patch_for(n);
   const NodeGrid grid = node_grid(p);
-  const ParticleSet ps = particles_in(p, n, 1);
+  const ParticleSet ps = sorted_particles_in<Shape>(p, n, 1);
   const NodeSums sums = node_sums(p);
   const SumQuanta q = driver_quanta(grid, n, ps.data());
   // The scratch is kept between steps, as the driver keeps it: a first, untimed call
@@ -70,7 +80,7 @@ void BM_internal_force(benchmark::State& state) {
   const long n = state.range(0);
   const Patch p = patch_for(n);
   const NodeGrid grid = node_grid(p);
-  const ParticleSet ps = particles_in(p, n, 2);
+  const ParticleSet ps = sorted_particles_in<Shape>(p, n, 2);
   const NodeSums sums = node_sums(p);
   const SumQuanta q = driver_quanta(grid, n, ps.data());
   ScatterScratch scratch;  // kept between steps, as in BM_p2g
@@ -85,7 +95,7 @@ void BM_g2p(benchmark::State& state) {
   const long n = state.range(0);
   const Patch p = patch_for(n);
   const NodeGrid grid = node_grid(p);
-  const ParticleSet ps = particles_in(p, n, 3);
+  const ParticleSet ps = sorted_particles_in<Shape>(p, n, 3);
   const NodeSums sums = node_sums(p);
   const ConstVectorField4 vs{sums.mom[0], sums.mom[1], sums.mom[2]}, acc{sums.fext[0], sums.fext[1], sums.fext[2]};
   // dt = 0: the particles stay in place, so every iteration does the same work.

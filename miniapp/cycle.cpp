@@ -817,13 +817,15 @@ void Cycle::add_particle_update_steps() {
                            m_mpm_dt_limit = limit;
                            stop_if_bad_particles(m_pb.decomposition->comm(), m_pb, "stress_update");
                          }});
-  m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns](const StepContext&) {
+  m_steps.push_back(Step{"migrate_particles", {}, {}, [this, ns, gimp](const StepContext&) {
                            long lost = 0;
                            const long interval = m_pb.input.mpm.sort_interval;
                            for (int s = 0; s < ns; ++s) {
                              lost += migrate(*m_pb.decomposition, m_pb.particles[s]).left_domain;
                              if (interval > 0 && (m_pb.step + 1) % interval == 0)
-                               sort_particles_by_cell(m_pb.patch(), m_pb.particles[s]);
+                               with_shape(gimp, [&](auto shape) {
+                                 sort_particles_by_window<decltype(shape)>(m_pb.patch(), m_pb.particles[s]);
+                               });
                            }
                            m_pb.particles_left_domain += global_sum(m_pb.decomposition->comm(), lost);
                          }});

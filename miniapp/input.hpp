@@ -41,7 +41,7 @@ struct MpmInput {
   double pic_fraction = 0;   // 0: FLIP, 1: PIC
   std::array<double, 3> gravity{0, 0, 0};  // m/s^2
   double damping = 0;        // 1/s: artificial damping of the solids' node accelerations (E26)
-  long sort_interval = 20;   // steps between sorts of particles by cell
+  long sort_interval = 20;   // steps between sorts of particles by window (particle_sort.hpp)
   double reference_pressure = 101325;  // Pa: the unstressed solid's pressure (p_ref)
 };
 

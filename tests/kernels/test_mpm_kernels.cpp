@@ -351,18 +351,23 @@ TEST(Transfer, GimpWeightsAgreeBetweenKernels) { weights_agree_test<GimpShape>()
 // Every column is 0 but the position, the mass (every 7th particle a trace of 2e-12 kg,
 // whose far nodes' share of the mass rounds to zero, else 0.5 to 1.5 kg) and the volume
 // (0.5e-4 to 1.5e-4 m^3); `more(h, p, u)` sets particle p's other columns in the host
-// copy h from uniform draws u() in [0, 1).
+// copy h from uniform draws u() in [0, 1). With `around_nodes`, GIMP's windows: 0 to 11
+// in the cell around each node (half a cell either side, so also in the ghost cells
+// next to the patch), in node order.
 template <class More>
-ParticleSet cell_run_particles(const Patch& patch, std::mt19937_64& rng, const More& more) {
+ParticleSet cell_run_particles(const Patch& patch, std::mt19937_64& rng, const More& more, bool around_nodes = false) {
   const Grid& g = patch.grid;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   auto u = [&] { return uniform(rng); };
+  const int extra = around_nodes ? 1 : 0;
+  const double shift = around_nodes ? 0.5 : 0.0;
   std::vector<std::array<double, 3>> at;
-  for (int i = 0; i < g.cells[0]; ++i)
-    for (int j = 0; j < g.cells[1]; ++j)
-      for (int k = 0; k < g.cells[2]; ++k)
+  for (int i = 0; i < g.cells[0] + extra; ++i)
+    for (int j = 0; j < g.cells[1] + extra; ++j)
+      for (int k = 0; k < g.cells[2] + extra; ++k)
         for (int c = int(u() * 12); c > 0; --c)
-          at.push_back({(i + u()) * g.spacing[0], (j + u()) * g.spacing[1], (k + u()) * g.spacing[2]});
+          at.push_back({(i - shift + u()) * g.spacing[0], (j - shift + u()) * g.spacing[1],
+                        (k - shift + u()) * g.spacing[2]});
   std::shuffle(at.begin() + long(at.size()) * 3 / 4, at.end(), rng);
   const long n = long(at.size());
   ParticleSet ps("solid", n);
@@ -438,50 +443,70 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
 
 #if !defined(MPMICE_DEVICE_BACKEND)
 // A body for reduce_over_particle_groups that reports how particle p reads its nodes:
-// 1 through ReadTwoCells with both cells the same (`distinct` false) or different
-// (`distinct` true), else 0.
-struct TwoCellReads {
+// 1 through ReadTwoWindows with both windows the same (`distinct` false) or different
+// (`distinct` true), else 0. Its `first` is g2p's (G2pParticle::first).
+template <class Shape>
+struct TwoWindowReads {
   NodeGrid grid;
   ParticleData data;
-  NodeStencil<2> nodes;
+  NodeStencil<Shape::nodes> nodes;
+  Kokkos::Array<long, 3> extent;
   bool distinct;
   long first(long p) const {
     double x[3], half[3];
     particle_position(data, p, x, half);
-    return nodes.at(ParticleWeights<LinearShape>(x, grid.origin, grid.inv_h, grid.first_node, half).first);
+    return window_place(nodes, ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half).first,
+                        extent);
   }
   double operator()(long, const ReadOwnNodes&) const { return 0.0; }
-  double operator()(long, const ReadTwoCells& read) const {
+  double operator()(long, const ReadTwoWindows& read) const {
     return (read.first_lo != read.first_hi) == distinct ? 1.0 : 0.0;
   }
 };
 #endif
 
-// With the linear shape g2p reads the node values of a group of 8 consecutive particles
-// once for the group when they all lie in one of two cells (reduce_over_particle_groups,
-// ReadTwoCells), else particle by particle (ReadOwnNodes). Either way every particle
+// g2p reads the node values of a group of 8 consecutive particles once for the group
+// when their windows of nodes are one of two (reduce_over_particle_groups,
+// ReadTwoWindows), else particle by particle (ReadOwnNodes). Either way every particle
 // must get the same values, bit for bit, as reading particle by particle throughout:
-// groups in one, two and more cells (runs of many, one and no particles, an unsorted
-// tail), and particles on a node plane, whose nodes above it have a weight of exactly 0
-// (ReadTwoCells reads them; ReadOwnNodes reads the particle's middle node instead), with
+// groups in one, two and more windows (runs of many, one and no particles, an unsorted
+// tail), nodes of zero weight (GIMP's far nodes; with the linear shape a particle on a
+// node plane, whose nodes above it have a weight of exactly 0: ReadTwoWindows reads
+// them, ReadOwnNodes reads the particle's middle node instead), and a group deep in the
+// ghost cells whose windows leave the node arrays (GIMP: they must read their own), with
 // every node field g2p reads (the heat and the transfers' terms included).
-TEST(Transfer, LinearG2pGroupsReadAsOneParticleAtATime) {
-  const Patch patch = whole_patch({6, 5, 4}, {0.125, 0.25, 0.125});  // node planes exact in binary
+template <class Shape>
+void expect_groups_read_as_one_particle_at_a_time() {
+  constexpr bool gimp = Shape::nodes == 3;
+  const std::array<double, 3> h_cell = {0.125, 0.25, 0.125};  // node planes exact in binary
+  const Patch patch = whole_patch({6, 5, 4}, h_cell);
   const NodeGrid grid = node_grid(patch);
   std::mt19937_64 rng(29);
-  const ParticleSet grouped = cell_run_particles(patch, rng, [&](auto& h, long p, auto& u) {
-    for (int d = 0; d < 3; ++d) {
-      h(p, column(ParticleField::vx) + d) = u() - 0.5;
-      for (int e = 0; e < 3; ++e) h(p, tensor_column(ParticleField::F00, d, e)) = (d == e) + 0.02 * (u() - 0.5);
-    }
-    h(p, column(ParticleField::temperature)) = 300 + 100 * u();
-    h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
-    h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
-    const int d = int(p % 3);  // every 4th particle onto the node plane below it along d
-    const double h_d = patch.grid.spacing[d];
-    double& x = h(p, column(ParticleField::x) + d);
-    if (p % 4 == 1) x = std::floor(x / h_d) * h_d;
-  });
+  const ParticleSet grouped = cell_run_particles(
+      patch, rng,
+      [&](auto& h, long p, auto& u) {
+        for (int d = 0; d < 3; ++d) {
+          h(p, column(ParticleField::vx) + d) = u() - 0.5;
+          for (int e = 0; e < 3; ++e) h(p, tensor_column(ParticleField::F00, d, e)) = (d == e) + 0.02 * (u() - 0.5);
+          h(p, column(ParticleField::size_x) + d) = 0.5;  // GIMP's half-width: a quarter cell
+        }
+        h(p, column(ParticleField::temperature)) = 300 + 100 * u();
+        h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
+        h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
+        if (p < 8) {
+          // The first group: 0.3-0.45 cells into the outermost ghost cell along i, near
+          // node (1, 1) along j and k, one window. GIMP's lowest node of it lies below
+          // the node arrays, with weight 0.
+          h(p, column(ParticleField::x)) = (-2.0 + 0.3 + 0.15 * u()) * h_cell[0];
+          for (int d = 1; d < 3; ++d) h(p, column(ParticleField::x) + d) = (1.0 + 0.1 * u()) * h_cell[d];
+        }
+        // Every 4th particle onto a node plane along d: the one below it (linear), its
+        // nearest (GIMP; its window stays the same).
+        const int d = int(p % 3);
+        double& x = h(p, column(ParticleField::x) + d);
+        if (p % 4 == 1) x = std::floor(x / h_cell[d] + (gimp ? 0.5 : 0.0)) * h_cell[d];
+      },
+      /*around_nodes=*/gimp);
   const long n = long(grouped.size());
   ParticleSet each("each", n);
   each.resize(n);
@@ -504,9 +529,9 @@ TEST(Transfer, LinearG2pGroupsReadAsOneParticleAtATime) {
   const double dt = 1e-3;  // |L| dt < 1: no particle needs sub-steps (which only g2p does)
   const auto before = Kokkos::create_mirror(grouped.data());  // a copy: g2p moves the particles
   Kokkos::deep_copy(before, grouped.data());
-  g2p<LinearShape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
-  const double substepped = detail::g2p_deforming<LinearShape, true, true>(
-      grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate, transfer, /*in_groups=*/false);
+  g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
+  const double substepped = detail::g2p_deforming<Shape, true, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc,
+                                                                     temp_rate, transfer, /*in_groups=*/false);
   ASSERT_EQ(substepped, 0.0);
 
   auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
@@ -517,38 +542,54 @@ TEST(Transfer, LinearG2pGroupsReadAsOneParticleAtATime) {
   EXPECT_EQ(differing, 0) << "of " << n * particle_field_count << " entries";
 
   // Both reads were taken: groups of 8 (as reduce_over_particle_groups forms them, from
-  // the start of each run of detail::particle_run particles) in one cell, in two, and in
-  // more (cells from the positions before g2p).
-  const auto cell_of = [&](long p) {
+  // the start of each run of detail::particle_run particles) in one window, in two, in
+  // more, and with a window outside the node arrays (windows from the positions before
+  // g2p).
+  const Kokkos::Array<long, 3> extent = {long(vel[0].extent(1)), long(vel[0].extent(2)), long(vel[0].extent(3))};
+  const auto window_of = [&](long p) {
     double x[3], half[3];
     particle_position(before, p, x, half);
-    const ParticleWeights<LinearShape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     return std::array<long, 3>{long(wt.first[0]), long(wt.first[1]), long(wt.first[2])};
   };
-  long in_one = 0, in_two = 0, in_more = 0;
+  const auto inside = [&](long p) {
+    const std::array<long, 3> w = window_of(p);
+    for (int d = 0; d < 3; ++d)
+      if (w[d] < 0 || w[d] + Shape::nodes - 1 >= extent[d]) return false;
+    return true;
+  };
+  long in_one = 0, in_two = 0, in_more = 0, outside = 0;
   for (long run = 0; run < n; run += detail::particle_run)
     for (long g = run; g + detail::particle_group <= std::min(n, run + detail::particle_run);
          g += detail::particle_group) {
       const long last = g + detail::particle_group - 1;
-      bool two = true;
-      for (long p = g + 1; p < last; ++p) two = two && (cell_of(p) == cell_of(g) || cell_of(p) == cell_of(last));
-      (!two ? in_more : cell_of(g) == cell_of(last) ? in_one : in_two) += 1;
+      bool two = true, all_inside = true;
+      for (long p = g; p <= last; ++p) {
+        two = two && (window_of(p) == window_of(g) || window_of(p) == window_of(last));
+        all_inside = all_inside && inside(p);
+      }
+      (!all_inside ? outside : !two ? in_more : window_of(g) == window_of(last) ? in_one : in_two) += 1;
     }
   EXPECT_GT(in_one, 5);
-  EXPECT_GT(in_two, 5) << in_one << " in one cell, " << in_more << " in more";
+  EXPECT_GT(in_two, 5) << in_one << " in one window, " << in_more << " in more";
   EXPECT_GT(in_more, 5);
+  EXPECT_EQ(outside, gimp ? 1 : 0);  // the first group
 #if !defined(MPMICE_DEVICE_BACKEND)
-  // ... and reduce_over_particle_groups chose those: it gives ReadTwoCells to the
-  // particles of exactly the groups in one or two cells.
-  const NodeStencil<2> nodes(vel[0], 0);
+  // ... and reduce_over_particle_groups chose those: it gives ReadTwoWindows to the
+  // particles of exactly the groups in one or two windows, all inside.
+  const NodeStencil<Shape::nodes> nodes(vel[0], 0);
   const ParticleData input = before;
   const auto reads = [&](bool distinct) {
-    return reduce_over_particle_groups<Reduction::sum>("reads", n, TwoCellReads{grid, input, nodes, distinct});
+    return reduce_over_particle_groups<Reduction::sum>("reads", n,
+                                                       TwoWindowReads<Shape>{grid, input, nodes, extent, distinct});
   };
   EXPECT_EQ(reads(false), double(detail::particle_group * in_one));
   EXPECT_EQ(reads(true), double(detail::particle_group * in_two));
 #endif
 }
+
+TEST(Transfer, LinearG2pGroupsReadAsOneParticleAtATime) { expect_groups_read_as_one_particle_at_a_time<LinearShape>(); }
+TEST(Transfer, GimpG2pGroupsReadAsOneParticleAtATime) { expect_groups_read_as_one_particle_at_a_time<GimpShape>(); }
 
 // Quantum::round against its definition, computed here without the magic number:
 // the multiple of q nearest x (ties to the even multiple), exact.
@@ -610,7 +651,11 @@ TEST(Quanta, RoundedSumsDoNotDependOnTheirOrder) {
   }
 }
 
-TEST(Transfer, SortKeepsEveryParticle) {
+// Sorted by the window of Shape (sort_particles_by_window), every particle is kept with
+// all its values, and their windows' middle nodes (the cell for the linear shape, the
+// nearest node for GIMP, local indices) come in row-major order.
+template <class Shape>
+void expect_sorted_by_window() {
   Grid g;
   g.cells = {4, 4, 4};
   const Patch patch = whole_grid_patch(g, 2);
@@ -627,7 +672,7 @@ TEST(Transfer, SortKeepsEveryParticle) {
   }
   Kokkos::deep_copy(ps.data(), h);
   Kokkos::deep_copy(ps.id(), id);
-  sort_particles_by_cell(patch, ps);
+  sort_particles_by_window<Shape>(patch, ps);
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
   auto sid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
   long last_key = -1, idsum = 0;
@@ -636,12 +681,16 @@ TEST(Transfer, SortKeepsEveryParticle) {
     idsum += p;
     for (int c = 0; c < particle_field_count; ++c) ASSERT_EQ(s(q, c), h(p, c));
     long key = 0;
-    for (int d = 0; d < 3; ++d) key = key * 8 + long(std::floor(s(q, column(ParticleField::x) + d)) + 2);
+    const double to_middle = Shape::nodes == 3 ? 0.5 : 0.0;  // cells 1 m wide
+    for (int d = 0; d < 3; ++d) key = key * 8 + long(std::floor(s(q, column(ParticleField::x) + d) + to_middle)) + 2;
     EXPECT_GE(key, last_key);
     last_key = key;
   }
   EXPECT_EQ(idsum, 299L * 300 / 2);
 }
+
+TEST(Transfer, SortByCellKeepsEveryParticle) { expect_sorted_by_window<LinearShape>(); }
+TEST(Transfer, SortByGimpWindowKeepsEveryParticle) { expect_sorted_by_window<GimpShape>(); }
 
 // The cube root the stress update uses instead of pow (so that its loop vectorises):
 // against long-double powl over J from 1e-7 to 1e7 (log-uniform) and near 1. Bound

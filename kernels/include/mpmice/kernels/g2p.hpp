@@ -4,8 +4,6 @@
 ///        fraction) and position (E35), and the particle kinematics: velocity
 ///        gradient, deformation gradient and volume (E36). Weights use the old
 ///        positions.
-#include <type_traits>
-
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/materials.hpp>
 #include <mpmice/kernels/node_reads.hpp>
@@ -56,6 +54,7 @@ struct G2pParticle {
   NodeGrid grid;
   ParticleData data;
   NodeStencil<Shape::nodes> nodes;
+  Kokkos::Array<long, 3> node_extent;  ///< of the node arrays along i, j, k
   Kokkos::Array<ConstNodeArray, 3> v_node, a_node;
   ConstNodeArray t_node, q_node;
   double dt, pic_fraction, inverse_cv;
@@ -67,6 +66,7 @@ struct G2pParticle {
       : grid(grid_),
         data(data_),
         nodes(vel_star[0], m),
+        node_extent{long(vel_star[0].extent(1)), long(vel_star[0].extent(2)), long(vel_star[0].extent(3))},
         v_node{node_array(vel_star[0]), node_array(vel_star[1]), node_array(vel_star[2])},
         a_node{node_array(acc[0]), node_array(acc[1]), node_array(acc[2])},
         t_node(node_array(temp_rate)),
@@ -75,12 +75,13 @@ struct G2pParticle {
         pic_fraction(pic_fraction_),
         inverse_cv(Transfer ? 1.0 / transfer.cv : 0.0) {}
 
-  /// The place of particle p's first node (reduce_over_particle_groups), as the body
-  /// below finds it.
+  /// The place of particle p's first node as the body below finds it, or -1 if its
+  /// window leaves the node arrays (window_place, reduce_over_particle_groups).
   KOKKOS_FORCEINLINE_FUNCTION long first(long p) const {
     double x[3], half[3];
     particle_position(data, p, x, half);
-    return nodes.at(ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half).first);
+    return window_place(nodes, ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half).first,
+                        node_extent);
   }
 
   template <class Read>
@@ -147,19 +148,18 @@ struct G2pParticle {
   }
 };
 
-/// (E35, E36) for the particles of a material that deforms (G2pParticle). With the
-/// linear shape and `in_groups`, a group of 8 particles in its first or its last
-/// particle's cell reads their node values once for the group instead of gathering them
-/// particle by particle (reduce_over_particle_groups; docs/performance.md, session 19);
-/// `in_groups` false reads them particle by particle (the tests compare the two).
+/// (E35, E36) for the particles of a material that deforms (G2pParticle). With
+/// `in_groups`, a group of 8 particles whose windows of nodes are its first or its last
+/// particle's reads their node values once for the group instead of gathering them
+/// particle by particle (reduce_over_particle_groups; docs/performance.md, sessions 19
+/// and 20); `in_groups` false reads them particle by particle (the tests compare the two).
 /// Returns 1 if a particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
                      const ConstField4& temp_rate, const TransferHeat& transfer, bool in_groups = true) {
   const G2pParticle<Shape, Heat, Transfer> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
-  if constexpr (std::is_same_v<Shape, LinearShape>)
-    if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
+  if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
   return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
                                                KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
 }
@@ -188,8 +188,9 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
 /// The loop over particles vectorises (loops.hpp): the nodes are written out, a node of
 /// zero weight adds nothing (ReadOwnNodes, node_reads.hpp), and a particle whose
 /// deformation needs more than one sub-step (|L| dt >= 1, rare) is finished by a second,
-/// scalar pass. With the linear shape, groups of particles in at most two cells read
-/// their node values once per group (reduce_over_particle_groups).
+/// scalar pass. Groups of particles in at most two windows of nodes (particles sorted by
+/// window, particle_sort.hpp) read their node values once per group
+/// (reduce_over_particle_groups).
 template <class Shape>
 void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
          double pic_fraction, bool rigid, Kokkos::Array<double, 3> rigid_velocity,

@@ -2,10 +2,10 @@
 /// \file node_reads.hpp
 /// \brief How a particle loop that reads node values (g2p) reads them: each particle
 ///        its own nodes (`ReadOwnNodes`; across a vector of particles, one gather per
-///        node and field), or, for a group of particles that all lie in one of two
-///        cells (`ReadTwoCells`; with the linear shape the particles of a set sorted by
-///        cell), both cells' values, the same for every particle, and a select.
-///        `reduce_over_particle_groups` chooses between them group by group.
+///        node and field), or, for a group of particles whose windows of nodes are one
+///        of two (`ReadTwoWindows`; the particles of a set sorted by window,
+///        particle_sort.hpp), both windows' values, the same for every particle, and a
+///        select. `reduce_over_particle_groups` chooses between them group by group.
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -30,17 +30,33 @@ struct ReadOwnNodes {
   }
 };
 
+/// The place of a window's first node for `reduce_over_particle_groups`'s
+/// `body.first(p)`: `nodes.at(first)` when the window's Nodes^3 nodes from `first` all lie
+/// in node arrays of extents `extent` (i, j, k), else -1 (checked for GIMP only: the
+/// linear window is read either way). ReadTwoWindows reads every node
+/// of a window, also those of zero weight, which ReadOwnNodes does not: for GIMP they
+/// can lie past the node arrays (a particle deep in the ghost cells), and a group with
+/// such a particle then reads particle by particle.
+template <int Nodes>
+KOKKOS_INLINE_FUNCTION long window_place(const NodeStencil<Nodes>& nodes, const NodeOffset* first,
+                                         const Kokkos::Array<long, 3>& extent) {
+  // The linear window is the particle's cell, whose nodes ReadOwnNodes reads too.
+  if constexpr (Nodes == 2) return nodes.at(first);
+  long outside = 0;
+  for (int d = 0; d < 3; ++d) outside |= long(first[d] < 0) | long(first[d] + Nodes > extent[d]);
+  return outside != 0 ? -1 : nodes.at(first);
+}
+
 #if !defined(MPMICE_DEVICE_BACKEND)
-/// Every particle of the group has its first node at `first_lo` or at `first_hi`, and
-/// reads node (first + step) of it: both values are loaded, the same for the whole group
-/// (in a vector loop two broadcasts, hoisted out of it, instead of a gather), and
-/// selected. Only for a shape whose nodes (first + step) are the nodes of the particle's
-/// cell (the linear shape): a node of zero weight (a particle on a node plane) is read
-/// where ReadOwnNodes reads the particle's middle node, and, its value finite, adds
-/// nothing either way (with an infinite or NaN value there the particle would get NaN).
-/// Every node of the particle's cell must exist: true for a particle in the patch or
-/// in its ghost cells, whose nodes reach further. Host only (reduce_over_particle_groups).
-struct ReadTwoCells {
+/// Every particle of the group has its window's first node at `first_lo` or at
+/// `first_hi`, and reads node (first + step) of it: both values are loaded, the same for
+/// the whole group (in a vector loop two broadcasts, hoisted out of it, instead of a
+/// gather), and selected. A node of zero weight (GIMP's far nodes; with the linear
+/// shape, a particle on a node plane) is read where ReadOwnNodes reads the particle's
+/// middle node, and, its value finite, adds nothing either way (with an infinite or NaN
+/// value there the particle would get NaN). Both windows must lie in the node arrays
+/// (window_place). Host only (reduce_over_particle_groups).
+struct ReadTwoWindows {
   long first_lo, first_hi;
   struct Node {
     long at_lo, at_hi;
@@ -71,9 +87,9 @@ constexpr long particle_group = 8;
 static_assert(particle_run % particle_group == 0, "runs of whole groups");
 
 /// One run [lo, hi) of `reduce_over_particle_groups`, flattened (loops.hpp). A group
-/// reads both cells when every particle's first node is the first or the last
-/// particle's (the others counted in a double, as loops.hpp's reductions count); the
-/// run's last, partial group reads its own nodes.
+/// reads both windows when every particle's first node is the first or the last
+/// particle's (the others counted in a double, as loops.hpp's reductions count) and
+/// both lie in the node arrays; the run's last, partial group reads its own nodes.
 template <Reduction R, class Body>
 MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, long hi) {
   const Body body = particle_body;  // its own copy, as simd_run_reduce
@@ -91,10 +107,11 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
       elsewhere += first != first_lo && first != first_hi ? 1.0 : 0.0;
     }
     // The group as one vector loop of known length, particle_group: no remainder.
-    const ReadTwoCells two{first_lo, first_hi};
-    const auto two_cells = [&](long p) { return body(p, two); };
-    combine<R>(acc, elsewhere == 0.0 ? simd_run_reduce<R>(two_cells, g, g + particle_group)
-                                     : simd_run_reduce<R>(own, g, g + particle_group));
+    const ReadTwoWindows two{first_lo, first_hi};
+    const auto two_windows = [&](long p) { return body(p, two); };
+    const bool in_two = elsewhere == 0.0 && first_lo >= 0 && first_hi >= 0;
+    combine<R>(acc, in_two ? simd_run_reduce<R>(two_windows, g, g + particle_group)
+                           : simd_run_reduce<R>(own, g, g + particle_group));
   }
   combine<R>(acc, simd_run_reduce<R>(own, g, hi));
   return acc;
@@ -103,13 +120,13 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
 #endif
 
 /// Like `reduce_over_particles`, for a body with `body(p, read)`, particle p's value,
-/// which reads its node values through `read` (ReadOwnNodes or ReadTwoCells), and
-/// `body.first(p)`, the place of particle p's first node (NodeStencil::at). On the host
-/// the particles go in groups of 8 consecutive ones: a group whose first nodes are all
-/// its first or its last particle's reads ReadTwoCells, else ReadOwnNodes. Only for a
-/// shape ReadTwoCells fits (the linear shape), with every particle's cell in reach of
-/// the node arrays (see there). On a GPU every particle reads its own (each thread loads
-/// its values: no vector gather to save). The sum's order differs from reduce_over_particles's.
+/// which reads its node values through `read` (ReadOwnNodes or ReadTwoWindows), and
+/// `body.first(p)`, the place of particle p's first node as `window_place` gives it. On
+/// the host the particles go in groups of 8 consecutive ones: a group whose first nodes
+/// are all its first or its last particle's, inside the node arrays, reads
+/// ReadTwoWindows, else ReadOwnNodes. On a GPU every particle reads its own (each thread
+/// loads its values: no vector gather to save). The sum's order differs from
+/// reduce_over_particles's.
 template <Reduction R, class Body>
 double reduce_over_particle_groups(const std::string& label, long count, const Body& body) {
 #if defined(MPMICE_DEVICE_BACKEND)
