@@ -66,8 +66,8 @@ inline VectorField4 node_vector(const Patch& p, double base, double spread, unsi
           node_field(p, base, spread, seed + 2)};
 }
 
-/// `count` particles spread over the patch's owned cells (sorted by cell, as the
-/// driver keeps them), F = I, small random velocities.
+/// `count` particles spread over the patch's owned cells (sorted by cell; the particle
+/// benchmarks sort them by their shape's window, as the driver does), F = I, small random velocities.
 inline ParticleSet particles_in(const Patch& p, long count, unsigned seed) {
   ParticleSet ps("bench", std::size_t(count));
   ps.resize(std::size_t(count));
