@@ -78,10 +78,7 @@ struct G2pParticle {
   /// The place of particle p's first node as the body below finds it, or -1 if its
   /// window leaves the node arrays (window_place, reduce_over_particle_groups).
   KOKKOS_FORCEINLINE_FUNCTION long first(long p) const {
-    double x[3], half[3];
-    particle_position(data, p, x, half);
-    return window_place(nodes, ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half).first,
-                        node_extent);
+    return window_place(nodes, particle_weights<Shape>(grid, data, p).first, node_extent);
   }
 
   template <class Read>

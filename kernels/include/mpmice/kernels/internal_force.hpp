@@ -24,9 +24,7 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
                                   const Quantum& quantum, const Quantum& mass_quantum) {
   constexpr int n = Shape::nodes;
   scatter_from_particles("mpmice::internal_force", count, KOKKOS_LAMBDA(long p) {
-    double x[3], half[3];
-    particle_position(data, p, x, half);
-    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
     const long first = rows.at(wt.first);
     const Mat3 stress = force_stress(data, p);
     const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));

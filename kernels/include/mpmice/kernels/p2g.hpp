@@ -55,9 +55,8 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
   constexpr int n = Shape::nodes, F = p2g_fields;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particles("mpmice::p2g", count, KOKKOS_LAMBDA(long p) {
-    double x[3], half[3], value[F];
-    particle_position(data, p, x, half);
-    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    double value[F];
+    const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
     const long first = rows.at(wt.first);
     p2g_values(data, p, value);
     auto node = scatter.access();
@@ -117,11 +116,7 @@ template <class Shape, class Add, class AddRun>
 KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const NodeStencil<Shape::nodes>& rows,
                                                 const ParticleData& data, long lo, long hi, const Add& add,
                                                 const AddRun& add_run) {
-  const auto weights = [&](long p) {
-    double x[3], half[3];
-    particle_position(data, p, x, half);
-    return ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half);
-  };
+  const auto weights = [&](long p) { return particle_weights<Shape>(grid, data, p); };
   if (lo >= hi) return;
   long p = lo;
   ParticleWeights<Shape> wt = weights(p);

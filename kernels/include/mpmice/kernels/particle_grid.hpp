@@ -7,6 +7,7 @@
 #include <mpmice/kernels/math.hpp>
 #include <mpmice/kernels/mat3.hpp>
 #include <mpmice/kernels/particles.hpp>
+#include <mpmice/kernels/shape.hpp>
 
 namespace mpmice {
 
@@ -90,6 +91,15 @@ KOKKOS_INLINE_FUNCTION void particle_position(const ParticleData& data, long p, 
     x[d] = data(p, column(ParticleField::x) + d);
     half[d] = 0.5 * data(p, column(ParticleField::size_x) + d);
   }
+}
+
+/// Particle p's weights over the nodes of its Shape's window, from local node `first`.
+template <class Shape>
+KOKKOS_FORCEINLINE_FUNCTION ParticleWeights<Shape> particle_weights(const NodeGrid& grid, const ParticleData& data,
+                                                                   long p) {
+  double x[3], half[3];
+  particle_position(data, p, x, half);
+  return ParticleWeights<Shape>(x, grid.origin, grid.inv_h, grid.first_node, half);
 }
 
 }  // namespace mpmice

@@ -12,9 +12,7 @@ void particle_pressure(const NodeGrid& grid, long count, const ParticleData& dat
                        const ConstField3& press_node) {
   Kokkos::parallel_for(
       "mpmice::particle_pressure", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long p) {
-        double x[3], half[3];
-        particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+        const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
         double sum = 0;
         for (int a = 0; a < Shape::nodes; ++a)
           for (int b = 0; b < Shape::nodes; ++b)

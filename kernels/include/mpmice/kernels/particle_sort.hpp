@@ -16,7 +16,6 @@
 #include <Kokkos_Sort.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
-#include <mpmice/kernels/shape.hpp>
 
 namespace mpmice {
 
@@ -31,16 +30,13 @@ void sort_particles_by_window(const Patch& patch, ParticleSet& particles) {
   // The window's middle node, first + (nodes - 1) / 2: the cell (linear) or the nearest
   // node (GIMP), from 0 to the patch's cell extent.
   constexpr int middle = (Shape::nodes - 1) / 2;
-  const int bins[3] = {patch.extent(Location::cell, 0) + 1, patch.extent(Location::cell, 1) + 1,
-                       patch.extent(Location::cell, 2) + 1};
-  const int b0 = bins[0], b1 = bins[1], b2 = bins[2];
+  const int b0 = patch.extent(Location::cell, 0) + 1, b1 = patch.extent(Location::cell, 1) + 1,
+            b2 = patch.extent(Location::cell, 2) + 1;  // bins along i, j, k
   Kokkos::View<int*, MemSpace> key("mpmice::sort_key", n);
   const ParticleData data = particles.data();
   Kokkos::parallel_for(
       "mpmice::window_key", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(long p) {
-        double x[3], half[3];
-        particle_position(data, p, x, half);
-        const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+        const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
         const int last[3] = {b0 - 1, b1 - 1, b2 - 1};
         int c[3];
         for (int d = 0; d < 3; ++d) {
