@@ -1,10 +1,15 @@
-"""The same run on 1 and 2 ranks gives the same history.
+"""The same run on 1 and 2 ranks gives the same history (and, with --exact-probes, the
+same probes bit for bit).
 
-Usage: /usr/bin/python3 check_ranks.py MPMICE PROBLEM.yaml WORK_DIR TOLERANCE END_TIME MPIEXEC [FLAGS...]
+Usage: /usr/bin/python3 check_ranks.py [--exact-probes] MPMICE PROBLEM.yaml WORK_DIR TOLERANCE END_TIME
+                                      MPIEXEC [FLAGS...]
 Runs PROBLEM to END_TIME on 1 rank and on 2 ranks (one thread each) and compares
 history.csv column by column: the largest difference over all rows, relative to the
 column's largest magnitude (a momentum against the run's scale sqrt(total mass x total
-energy)), must not exceed TOLERANCE. Prints the worst columns."""
+energy)), must not exceed TOLERANCE. Prints the worst columns. The history's totals are
+sums whose order depends on the ranks; the probes read single cells, and with
+--exact-probes (a build with MPMICE_REPRODUCIBLE, kernels/CMakeLists.txt) probes.csv must
+be the same file on 1 and 2 ranks, every digit of every row."""
 import os
 import shutil
 import subprocess
@@ -21,8 +26,12 @@ def run(cmd, env):
 
 
 def main():
-    exe, problem, work, tol, end = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4]), sys.argv[5]
-    mpi = sys.argv[6:]
+    args = sys.argv[1:]
+    exact = args[0] == "--exact-probes"
+    if exact:
+        args = args[1:]
+    exe, problem, work, tol, end = args[0], args[1], args[2], float(args[3]), args[4]
+    mpi = args[5:]
     env = dict(os.environ, OMP_NUM_THREADS="1")
     shutil.rmtree(work, ignore_errors=True)
     dirs = {}
@@ -49,6 +58,17 @@ def main():
     if worst > tol:
         sys.exit("FAIL: 1 and 2 ranks differ by %.2e (> %g) in %s" % (worst, tol, header[order[0]]))
     print("1 and 2 ranks: every history column within %.2e (bound %g) over %d rows" % (worst, tol, len(a)))
+    if exact:
+        probes = []
+        for ranks in (1, 2):
+            with open(os.path.join(dirs[ranks], "probes.csv")) as f:
+                probes.append(f.read().splitlines())
+        if len(probes[0]) < 2 or len(probes[0]) != len(probes[1]):
+            sys.exit("FAIL: probes.csv has %d and %d rows" % (len(probes[0]), len(probes[1])))
+        for row, (x, y) in enumerate(zip(*probes)):
+            if x != y:
+                sys.exit("FAIL: probes.csv differs from row %d: '%s' on 1 rank, '%s' on 2" % (row, x, y))
+        print("1 and 2 ranks: probes.csv the same, every digit of its %d rows" % (len(probes[0]) - 1))
 
 
 if __name__ == "__main__":

@@ -61,13 +61,14 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 /// counted in quanta (Quantum::in_units) in a vector loop over its 8 nodes, and into the
 /// scatter once per node. The node of largest weight is found after the vector loop, in
 /// the nodes' order, as internal_force_each_particle finds it. With quanta the sums are
-/// exact, so they do not depend on how the particles split into runs or threads. They
-/// are not always bit for bit those of internal_force_each_particle: GCC fuses a
-/// different product of sigma . grad S into an FMA in the vector loop than in the
-/// scalar one, so a force within an ulp of half a quantum can round to the other
-/// neighbour (one contribution in a 300-step container run with linear shapes). Without
-/// quanta the sums' order differs too (a node gets given - f, not -f then + given), so
-/// they change at round-off. Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
+/// exact, so they do not depend on how the particles split into runs or threads, and
+/// built with MPMICE_REPRODUCIBLE they are bit for bit those of
+/// internal_force_each_particle. Without it GCC may fuse a different product of
+/// sigma . grad S into an FMA in the vector loop than in the scalar one, so a force
+/// within an ulp of half a quantum can round to the other neighbour (one contribution
+/// in a 300-step container run with linear shapes). Without quanta the sums' order
+/// differs too (a node gets given - f, not -f then + given), so they change at
+/// round-off. Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
 template <class Shape>
 void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,

@@ -11,8 +11,8 @@
 ///        sums do not depend on it (p2g and the internal force add in exact quanta,
 ///        g2p reads per particle); sums in particle order do, at round-off (the
 ///        history's particle totals: crossflow's beam momentum on 2 threads, 17th digit),
-///        and so can a particle in a loop's scalar tail, by an ulp (docs/design.md,
-///        "Order-independent particle sums").
+///        and, built without MPMICE_REPRODUCIBLE, a particle in a loop's scalar tail, by
+///        an ulp (docs/design.md, "Order-independent particle sums").
 #include <Kokkos_Sort.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
