@@ -7,9 +7,10 @@ Environment: THREADS (OMP_NUM_THREADS, default 1), MINT (--benchmark_min_time, 0
 Runs the benchmarks matching FILTER with each binary in turn, ROUNDS times, and prints
 each benchmark's best items/s per binary and the ratio of the last binary to the first.
 Alternating the builds spreads the machine's slow stretches over all of them; the best
-of several rounds is the least disturbed. Each binary is copied to one fixed path and
-run from there: the same file measured g2p at 52 to 75 million particles/s depending
-only on the path it ran from (docs/performance.md, session 22)."""
+of several rounds is the least disturbed. Each binary is copied to one path and run
+from there, since the path alone moved a kernel's speed (docs/performance.md, session
+22); the path is new for every comparison, so compare ratios within one, not items/s
+between two."""
 import json
 import os
 import shutil
@@ -22,27 +23,36 @@ def main():
     if len(sys.argv) < 5:
         sys.exit(__doc__)
     filt, rounds, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+    if rounds < 1:
+        sys.exit("ROUNDS must be at least 1")
     env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("THREADS", "1"), OMP_PROC_BIND="false")
+    min_time = "--benchmark_min_time=" + os.environ.get("MINT", "0.3")
     best = [dict() for _ in bins]
+    names = []  # in the order the builds report them, each once
     with tempfile.TemporaryDirectory() as work:
-        exe = os.path.join(work, "mpmice_bench")
+        exe, results = os.path.join(work, "mpmice_bench"), os.path.join(work, "results.json")
         for _ in range(rounds):
             for i, b in enumerate(bins):
                 shutil.copy(b, exe)
-                r = subprocess.run([exe, "--benchmark_filter=" + filt,
-                                    "--benchmark_min_time=" + os.environ.get("MINT", "0.3"),
-                                    "--benchmark_format=json"], env=env, capture_output=True, text=True)
+                r = subprocess.run([exe, "--benchmark_filter=" + filt, min_time, "--benchmark_out=" + results,
+                                    "--benchmark_out_format=json"], env=env, capture_output=True, text=True)
                 if r.returncode != 0:
                     sys.exit("%s exited %d:\n%s" % (b, r.returncode, r.stderr))
-                for bm in json.loads(r.stdout)["benchmarks"]:
-                    name = bm["name"]
-                    best[i][name] = max(best[i].get(name, 0.0), bm.get("items_per_second", 0.0))
+                with open(results) as f:
+                    for bm in json.load(f)["benchmarks"]:
+                        name = bm["name"]
+                        if name not in names:
+                            names.append(name)
+                        best[i][name] = max(best[i].get(name, 0.0), bm.get("items_per_second", 0.0))
+    if not names:
+        sys.exit("no benchmark matches '%s'" % filt)
     print("%-64s" % "benchmark (best items/s, millions)" + "".join("%14s" % ("build %d" % i) for i in range(len(bins)))
           + "   last/first")
-    for name in best[0]:
-        values = [b.get(name, 0.0) for b in best]
-        ratio = values[-1] / values[0] if values[0] > 0 else float("nan")
-        print("%-64s" % name + "".join("%14.2f" % (v / 1e6) for v in values) + "   %.2f" % ratio)
+    for name in names:
+        values = [b.get(name) for b in best]
+        shown = "".join("%14.2f" % (v / 1e6) if v is not None else "%14s" % "-" for v in values)
+        ratio = values[-1] / values[0] if values[0] and values[-1] is not None else float("nan")
+        print("%-64s" % name + shown + "   %.2f" % ratio)
 
 
 if __name__ == "__main__":

@@ -27,9 +27,11 @@ def run(cmd, env):
 
 def main():
     args = sys.argv[1:]
-    exact = args[0] == "--exact-probes"
+    exact = "--exact-probes" in args[:1]
     if exact:
         args = args[1:]
+    if len(args) < 6:
+        sys.exit(__doc__)
     exe, problem, work, tol, end = args[0], args[1], args[2], float(args[3]), args[4]
     mpi = args[5:]
     env = dict(os.environ, OMP_NUM_THREADS="1")
@@ -59,16 +61,27 @@ def main():
         sys.exit("FAIL: 1 and 2 ranks differ by %.2e (> %g) in %s" % (worst, tol, header[order[0]]))
     print("1 and 2 ranks: every history column within %.2e (bound %g) over %d rows" % (worst, tol, len(a)))
     if exact:
-        probes = []
-        for ranks in (1, 2):
-            with open(os.path.join(dirs[ranks], "probes.csv")) as f:
-                probes.append(f.read().splitlines())
-        if len(probes[0]) < 2 or len(probes[0]) != len(probes[1]):
-            sys.exit("FAIL: probes.csv has %d and %d rows" % (len(probes[0]), len(probes[1])))
-        for row, (x, y) in enumerate(zip(*probes)):
+        compare_probes(dirs[1], dirs[2])
+
+
+def compare_probes(one, two):
+    """probes.csv of the two runs must be the same file, byte for byte."""
+    text = []
+    for d in (one, two):
+        path = os.path.join(d, "probes.csv")
+        if not os.path.exists(path):
+            sys.exit("FAIL: %s was not written" % path)
+        with open(path) as f:
+            text.append(f.read())
+    rows = [t.splitlines() for t in text]
+    if len(rows[0]) < 2:
+        sys.exit("FAIL: %s holds no probe values" % os.path.join(one, "probes.csv"))
+    if text[0] != text[1]:
+        for n, (x, y) in enumerate(zip(rows[0], rows[1])):
             if x != y:
-                sys.exit("FAIL: probes.csv differs from row %d: '%s' on 1 rank, '%s' on 2" % (row, x, y))
-        print("1 and 2 ranks: probes.csv the same, every digit of its %d rows" % (len(probes[0]) - 1))
+                sys.exit("FAIL: probes.csv differs at data row %d: '%s' on 1 rank, '%s' on 2" % (n, x, y))
+        sys.exit("FAIL: probes.csv has %d data rows on 1 rank and %d on 2" % (len(rows[0]) - 1, len(rows[1]) - 1))
+    print("1 and 2 ranks: probes.csv the same, every digit of its %d rows" % (len(rows[0]) - 1))
 
 
 if __name__ == "__main__":
