@@ -11,12 +11,13 @@ of several rounds is the least disturbed. Each binary is copied to one path and 
 from there, since the path alone moved a kernel's speed (docs/performance.md, session
 22); the path is new for every comparison, so compare ratios within one, not items/s
 between two."""
-import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+
+from report import load  # Google Benchmark's JSON results by name (bench/report.py)
 
 
 def main():
@@ -34,16 +35,18 @@ def main():
         for _ in range(rounds):
             for i, b in enumerate(bins):
                 shutil.copy(b, exe)
+                if os.path.exists(results):
+                    os.remove(results)
                 r = subprocess.run([exe, "--benchmark_filter=" + filt, min_time, "--benchmark_out=" + results,
                                     "--benchmark_out_format=json"], env=env, capture_output=True, text=True)
                 if r.returncode != 0:
                     sys.exit("%s exited %d:\n%s" % (b, r.returncode, r.stderr))
-                with open(results) as f:
-                    for bm in json.load(f)["benchmarks"]:
-                        name = bm["name"]
-                        if name not in names:
-                            names.append(name)
-                        best[i][name] = max(best[i].get(name, 0.0), bm.get("items_per_second", 0.0))
+                if not os.path.exists(results) or os.path.getsize(results) == 0:
+                    continue  # no benchmark matched the filter
+                for name, bm in load(results).items():
+                    if name not in names:
+                        names.append(name)
+                    best[i][name] = max(best[i].get(name, 0.0), bm.get("items_per_second", 0.0))
     if not names:
         sys.exit("no benchmark matches '%s'" % filt)
     print("%-64s" % "benchmark (best items/s, millions)" + "".join("%14s" % ("build %d" % i) for i in range(len(bins)))
