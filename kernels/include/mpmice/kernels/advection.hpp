@@ -71,7 +71,7 @@ namespace detail {
 template <bool Compatible>
 void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h, const ConstField4& q, int m,
                       const ConstField4& mass, const GradientField& mass_grad, const GradientField& grad) {
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::limited_gradient", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         const double qc = q(m, i, j, k);
         const double nb[6] = {q(m, i - 1, j, k), q(m, i + 1, j, k), q(m, i, j - 1, k),
@@ -198,7 +198,7 @@ void with_slab(bool second_order, const ConstField4& q, const ConstField4& mass,
 template <class Slab>
 void cell_outfluxes(const IndexBox& cells, double dt, const Kokkos::Array<double, 3> area, const ConstVectorField4& U,
                     int m, const Slab& slab, const Kokkos::Array<Field3, 6>& out) {
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::cell_outfluxes", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double d[6], o[6];
         outflux_distances(U, m, i, j, k, dt, d);
@@ -274,7 +274,7 @@ struct StoredFlux {
 template <class Flux>
 void change_from_fluxes(const std::string& label, const IndexBox& cells, double inv_volume, const Flux& flux, int m,
                         const Field4& change) {
-  for_each_index(
+  for_each_index<Rows::longest>(
       label, cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double sum = 0;
         sum += flux.template at<0>(i, j, k);

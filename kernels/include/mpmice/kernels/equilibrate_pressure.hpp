@@ -161,7 +161,7 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
   };
   // Whether any cell failed, as a vectorisable max of 0/1 (a cell index would need a
   // long -> double conversion that AVX2 lacks, and the loop would stay scalar).
-  const double failed = reduce_over_index<Reduction::max>(
+  const double failed = reduce_over_index<Reduction::max, Rows::longest>(
       "mpmice::equilibrate_pressure", cells,
       KOKKOS_LAMBDA(long i, long j, long k) { return equilibrate_cell(i, j, k) ? 0.0 : 1.0; });
   if (failed == 0.0) return 0;

@@ -20,7 +20,7 @@ void face_exchange_n(const IndexBox& faces, int d, double dt, const MaterialTabl
   Kokkos::Array<double, N * N> K;
   for (int r = 0; r < N; ++r)
     for (int s = 0; s < N; ++s) K[r * N + s] = mats.K(r, s);
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::face_exchange", faces, KOKKOS_LAMBDA(long i, long j, long k) {
         double q[N];
         unrolled_for<N>([&](int r) { q[r] = face_vel(r, i, j, k); });

@@ -10,7 +10,7 @@ namespace mpmice {
 inline void face_pressure(const IndexBox& faces, int d, const ConstField3& press,
                           const ConstField3& sum_rho, const Field3& press_face) {
   const long di = d == 0, dj = d == 1, dk = d == 2;
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::face_pressure", faces, KOKKOS_LAMBDA(long i, long j, long k) {
         const double rl = sum_rho(i - di, j - dj, k - dk), rr = sum_rho(i, j, k);
         press_face(i, j, k) = (press(i, j, k) * rl + press(i - di, j - dj, k - dk) * rr) / (rl + rr);

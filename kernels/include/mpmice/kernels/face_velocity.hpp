@@ -29,7 +29,7 @@ void face_velocity_n(const IndexBox& faces, int d, double spacing, double dt, do
   // not a branch, so the loop over faces vectorises; exact either way).
   Kokkos::Array<double, N> pushed;
   for (int m = 0; m < N; ++m) pushed[m] = mats.is_rigid(m) ? 0.0 : 1.0;
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::face_velocity", faces, KOKKOS_LAMBDA(long i, long j, long k) {
         const long il = i - di, jl = j - dj, kl = k - dk;
         const double dpdx = (press(i, j, k) - press(il, jl, kl)) / spacing;

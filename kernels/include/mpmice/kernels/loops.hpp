@@ -11,6 +11,7 @@
 ///        they run on the device, and nvcc lets the helpers wrap them in lambdas of
 ///        their own only when they are extended (device) lambdas.
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <mpmice/kernels/types.hpp>
@@ -26,10 +27,15 @@
 #else
 #define MPMICE_PRAGMA_SIMD
 #endif
+// MPMICE_ROW: a row function of its own, flattened and never inlined into its caller:
+// inlined (GCC 12 did so for some kernels once the rows' direction became a choice),
+// its flattening was lost and the body stayed a call per cell, the loop scalar.
 #if defined(__GNUC__)
 #define MPMICE_FLATTEN __attribute__((flatten))
+#define MPMICE_ROW __attribute__((flatten, noinline))
 #else
 #define MPMICE_FLATTEN
+#define MPMICE_ROW
 #endif
 
 namespace mpmice {
@@ -37,6 +43,16 @@ namespace mpmice {
 /// What `reduce_over_index` and `reduce_over_particles` compute: the sum, or the largest
 /// value and 0.
 enum class Reduction { sum, max };
+
+/// Which index `for_each_index` and `reduce_over_index` run as the vector loop on the
+/// host. `along_k`: always k, the contiguous one. `longest`: k, unless the box is thin
+/// along k (fewer than `detail::short_row` cells: a quasi-1D or 2D problem, a face's
+/// slab) and longer along i or j; then the longer of those, with strided reads and
+/// writes (gathers). For bodies with much arithmetic per value they touch (the ICE cell
+/// kernels), which rows of a few cells along k leave scalar; streaming bodies (copies,
+/// averages of neighbours) keep k, where strided access costs more than vectors save
+/// (docs/design.md, "Cell loops that vectorise").
+enum class Rows { along_k, longest };
 
 namespace detail {
 /// Adds `value` into the partial result v as reduction R does.
@@ -48,13 +64,66 @@ KOKKOS_FORCEINLINE_FUNCTION void combine(double& v, double value) {
     v = value > v ? value : v;
 }
 
+/// f(n, a, b) (Along = 0, a row along i) or f(a, n, b) (Along = 1, along j): the row's
+/// index n in its place among the row's fixed indices a and b.
+template <int Along, class F>
+KOKKOS_FORCEINLINE_FUNCTION decltype(auto) call_in_row(const F& f, long n, long a, long b) {
+  if constexpr (Along == 0)
+    return f(n, a, b);
+  else
+    return f(a, n, b);
+}
+
 /// One run of `for_each_index` or `for_each_particle`: f(fixed..., k) for k from lo to
-/// hi (a row (i, j) of cells, or a chunk of particles). Flattened (every call inside
-/// inlined), because a call left in the loop keeps it from vectorising.
-template <class F, class... Fixed>
+/// hi (a row (i, j) of cells, or a chunk of particles), or with k in place `Along` of a
+/// row along i or j. Flattened (every call inside inlined), because a call left in the
+/// loop keeps it from vectorising.
+template <int Along = 2, class F, class... Fixed>
 MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
-  MPMICE_PRAGMA_SIMD
-  for (long k = lo; k < hi; ++k) f(fixed..., k);
+  if constexpr (Along == 2) {
+    MPMICE_PRAGMA_SIMD
+    for (long k = lo; k < hi; ++k) f(fixed..., k);
+  } else {
+    MPMICE_PRAGMA_SIMD
+    for (long k = lo; k < hi; ++k) call_in_row<Along>(f, k, fixed...);
+  }
+}
+
+/// With Rows::longest, a box with fewer cells than this along k runs along i or j.
+constexpr long short_row = 8;
+
+/// The rows of a box as `for_each_index` runs them on the host: along index `along`
+/// from lo to hi, row r with fixed indices a(r) and b(r) (the other two, in order).
+struct BoxRows {
+  int along;
+  long lo, hi, rows;
+  long a_lo, b_lo, b_count;
+
+  BoxRows(const IndexBox& box, Rows choice) {
+    const long n0 = box.extent(0), n1 = box.extent(1), n2 = box.extent(2);
+    const bool thin = choice == Rows::longest && n2 < short_row;
+    along = thin && n0 >= short_row && n0 >= n1 ? 0 : thin && n1 >= short_row ? 1 : 2;
+    const int ia = along == 0 ? 1 : 0, ib = along == 2 ? 1 : 2;
+    lo = box.lo[along];
+    hi = box.hi[along];
+    a_lo = box.lo[ia];
+    b_lo = box.lo[ib];
+    b_count = box.extent(ib);
+    rows = box.extent(ia) * b_count;
+  }
+  long a(long r) const { return a_lo + r / b_count; }
+  long b(long r) const { return b_lo + r % b_count; }
+};
+
+/// launch(std::integral_constant<int, A>) for the box's row direction A: only k when
+/// the choice is Rows::along_k (no other instantiations).
+template <Rows Choice, class Launch>
+void with_row_direction(const BoxRows& rows, const Launch& launch) {
+  if constexpr (Choice == Rows::longest) {
+    if (rows.along == 0) return launch(std::integral_constant<int, 0>{});
+    if (rows.along == 1) return launch(std::integral_constant<int, 1>{});
+  }
+  return launch(std::integral_constant<int, 2>{});
 }
 
 /// One run of `scatter_from_particles`: like simd_run, without the `omp simd`.
@@ -93,6 +162,29 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
   return acc;
 }
 
+/// A row of `for_each_index`: simd_run as a row function of its own (MPMICE_ROW).
+template <int Along, class F>
+MPMICE_ROW void simd_row(const F& f, long lo, long hi, long a, long b) {
+  simd_run<Along>(f, lo, hi, a, b);
+}
+
+/// The body f(i, j, k) of a row along i or j as a body of the row's index alone.
+template <int Along, class F>
+struct RowBody {
+  F f;
+  long a, b;
+  KOKKOS_FORCEINLINE_FUNCTION decltype(auto) operator()(long n) const { return call_in_row<Along>(f, n, a, b); }
+};
+
+/// A row of `reduce_over_index`: simd_run_reduce as a row function of its own.
+template <Reduction R, int Along, class F>
+MPMICE_ROW double simd_row_reduce(const F& f, long lo, long hi, long a, long b) {
+  if constexpr (Along == 2)
+    return simd_run_reduce<R>(f, lo, hi, a, b);
+  else
+    return simd_run_reduce<R>(RowBody<Along, F>{f, a, b}, lo, hi);
+}
+
 /// Kokkos's reduction of the runs' values: their sum, or their largest and 0.
 template <Reduction R, class Policy, class Run>
 double reduce_runs(const std::string& label, const Policy& runs, const Run& run) {
@@ -127,35 +219,39 @@ void over_particle_runs(const std::string& label, long count, const Run& run) {
 
 /// Runs f(i, j, k) for every index of `box`, in parallel; the indices are `long`.
 /// On a GPU this is the MDRange policy. On the host (OpenMP, Serial) each thread
-/// takes whole rows (i, j) and runs k, the contiguous index, as an `omp simd` loop.
+/// takes whole rows (i, j) and runs k, the contiguous index, as an `omp simd` loop
+/// (with `Rows::longest`, a box thin along k runs rows along i or j instead).
 /// GCC 12 vectorises that loop when the body has no branches or inner loops left
 /// after inlining (materials and small solves written out with `unrolled_for`) and
 /// indexes its views with `long` (an `int` index converted to the view's size_t
 /// offset defeats its stride analysis); it does not vectorise through an MDRange's
 /// tiles. A body that cannot vectorise (a loop over a run-time number of slots, a
 /// library call) still gains the rows' long indices and no tile bookkeeping; some
-/// such kernels keep `IndexBox::policy()`.
-template <class F>
+/// such kernels keep `IndexBox::policy()`. `Choice`: see `Rows` (the host only).
+template <Rows Choice = Rows::along_k, class F>
 void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 #if defined(MPMICE_DEVICE_BACKEND)
   Kokkos::parallel_for(label, box.policy(), f);
 #else
   if (box.size() == 0) return;
-  const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
-  const long rows1 = box.extent(1);
-  Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1), [=](long row) {
-    detail::simd_run(f, lo2, hi2, lo0 + row / rows1, lo1 + row % rows1);
+  const detail::BoxRows rows(box, Choice);
+  detail::with_row_direction<Choice>(rows, [&](auto along) {
+    constexpr int A = decltype(along)::value;
+    Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, rows.rows), [=](long r) {
+      detail::simd_row<A>(f, rows.lo, rows.hi, rows.a(r), rows.b(r));
+    });
   });
 #endif
 }
 
 /// Like `for_each_index`, for a body f(i, j, k) that returns a double: returns the
 /// sum of the values, or the largest of them and 0 (e.g. a 0/1 failure flag). Within a
-/// row the sum's order depends only on the row's length; the rows' sums are combined
+/// row the sum's order depends only on the row's length (and, with `Rows::longest`, on
+/// which index the rows follow, from the box's shape); the rows' sums are combined
 /// as any Kokkos parallel_reduce combines them. A double returned by value, not a long
 /// raised through a reference: with either, GCC 12 did not vectorise the loop (AVX2 has
 /// no 64-bit integer max or long -> double conversion).
-template <Reduction R, class F>
+template <Reduction R, Rows Choice = Rows::along_k, class F>
 double reduce_over_index(const std::string& label, const IndexBox& box, const F& f) {
 #if defined(MPMICE_DEVICE_BACKEND)
   double result = 0;
@@ -168,11 +264,15 @@ double reduce_over_index(const std::string& label, const IndexBox& box, const F&
   return result;
 #else
   if (box.size() == 0) return 0;
-  const long lo0 = box.lo[0], lo1 = box.lo[1], lo2 = box.lo[2], hi2 = box.hi[2];
-  const long rows1 = box.extent(1);
-  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, box.extent(0) * rows1), [=](long r) {
-    return detail::simd_run_reduce<R>(f, lo2, hi2, lo0 + r / rows1, lo1 + r % rows1);
+  const detail::BoxRows rows(box, Choice);
+  double result = 0;
+  detail::with_row_direction<Choice>(rows, [&](auto along) {
+    constexpr int A = decltype(along)::value;
+    result = detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, rows.rows), [=](long r) {
+      return detail::simd_row_reduce<R, A>(f, rows.lo, rows.hi, rows.a(r), rows.b(r));
+    });
   });
+  return result;
 #endif
 }
 

@@ -17,7 +17,7 @@ void pressure_update_n(const IndexBox& cells, double cell_volume, const ConstFie
                        const ConstField4& mass_source, const ConstField4& sp_vol, const ConstField3& sum_kappa,
                        const ConstField3& press_eq, const Field3& del_p_dilatate, const Field3& del_p_mass,
                        const Field3& press) {
-  for_each_index(
+  for_each_index<Rows::longest>(
       "mpmice::pressure_update", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double adv = 0, mx = 0;
         unrolled_for<N>([&](int m) {

@@ -53,7 +53,7 @@ double pressure_work_heat_n(const IndexBox& cells, const Kokkos::Array<double, 3
     rigid[r] = mats.is_rigid(r) ? 1.0 : 0.0;
     cv[r] = mats.eos[r].cv;
   }
-  return reduce_over_index<Reduction::sum>(
+  return reduce_over_index<Reduction::sum, Rows::longest>(
       "mpmice::pressure_work_heat", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         // A rigid body's prescribed motion works from outside on its cells and, through
         // their faces, on the cells next to them: no balance there.

@@ -1,0 +1,76 @@
+// The loop shapes of loops.hpp: for_each_index and reduce_over_index visit every index
+// of a box exactly once, whichever index their rows follow (Rows::along_k, or
+// Rows::longest, which runs a box thin along k along i or j).
+#include <gtest/gtest.h>
+
+#include <mpmice/kernels/loops.hpp>
+
+using namespace mpmice;
+
+namespace {
+
+IndexBox box_of(int i0, int i1, int j0, int j1, int k0, int k1) {
+  IndexBox b;
+  b.lo[0] = i0, b.hi[0] = i1, b.lo[1] = j0, b.hi[1] = j1, b.lo[2] = k0, b.hi[2] = k1;
+  return b;
+}
+
+// Boxes thin along k and longer along i, along j, or both equally; thin in every
+// direction; and long along k (rows along k for either choice).
+std::vector<IndexBox> sample_boxes() {
+  return {box_of(2, 42, 1, 4, 3, 4),  box_of(0, 3, 2, 33, 0, 5),  box_of(1, 13, 1, 13, 2, 4),
+          box_of(0, 5, 0, 5, 0, 5),   box_of(1, 4, 0, 3, 2, 22),  box_of(0, 9, 0, 1, 0, 7),
+          box_of(3, 3, 0, 10, 0, 1)};  // the last one empty
+}
+
+// How often each index of a 44 x 36 x 24 array was visited.
+template <Rows Choice>
+Kokkos::View<int***>::HostMirror visits(const IndexBox& box) {
+  Kokkos::View<int***> count("count", 44, 36, 24);
+  for_each_index<Choice>("test::visits", box, KOKKOS_LAMBDA(long i, long j, long k) {
+    Kokkos::atomic_add(&count(i, j, k), 1);
+  });
+  auto h = Kokkos::create_mirror_view(count);
+  Kokkos::deep_copy(h, count);
+  return h;
+}
+
+template <Rows Choice>
+void expect_each_index_once() {
+  for (const IndexBox& box : sample_boxes()) {
+    const auto h = visits<Choice>(box);
+    long wrong = 0;
+    for (int i = 0; i < 44; ++i)
+      for (int j = 0; j < 36; ++j)
+        for (int k = 0; k < 24; ++k) wrong += h(i, j, k) != (box.contains(i, j, k) ? 1 : 0);
+    EXPECT_EQ(wrong, 0) << "box " << box.lo[0] << ".." << box.hi[0] << " x " << box.lo[1] << ".." << box.hi[1]
+                        << " x " << box.lo[2] << ".." << box.hi[2];
+  }
+}
+
+// A value that names its index; the sums below are of integers below 2^53, so exact in
+// any order, and the rows' direction cannot change them.
+KOKKOS_INLINE_FUNCTION double code(long i, long j, long k) { return double(i * 10000 + j * 100 + k); }
+
+template <Rows Choice>
+void expect_sum_and_max() {
+  for (const IndexBox& box : sample_boxes()) {
+    double sum = 0, max = 0;
+    for (int i = box.lo[0]; i < box.hi[0]; ++i)
+      for (int j = box.lo[1]; j < box.hi[1]; ++j)
+        for (int k = box.lo[2]; k < box.hi[2]; ++k) {
+          sum += code(i, j, k);
+          max = code(i, j, k) > max ? code(i, j, k) : max;
+        }
+    const auto f = KOKKOS_LAMBDA(long i, long j, long k) { return code(i, j, k); };
+    EXPECT_EQ((reduce_over_index<Reduction::sum, Choice>("test::sum", box, f)), sum);
+    EXPECT_EQ((reduce_over_index<Reduction::max, Choice>("test::max", box, f)), max);
+  }
+}
+
+}  // namespace
+
+TEST(Loops, EveryIndexOnceAlongK) { expect_each_index_once<Rows::along_k>(); }
+TEST(Loops, EveryIndexOnceAlongTheLongest) { expect_each_index_once<Rows::longest>(); }
+TEST(Loops, ReductionsAlongK) { expect_sum_and_max<Rows::along_k>(); }
+TEST(Loops, ReductionsAlongTheLongest) { expect_sum_and_max<Rows::longest>(); }
