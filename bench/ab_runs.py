@@ -17,7 +17,7 @@ import subprocess
 import sys
 import tempfile
 
-ROW = re.compile(r"^([a-z_]+(?: steps)?)\s+(?:\d+\s+)?([0-9.]+)(?:\s|$)")
+ROW = re.compile(r"^([a-z0-9_]+(?: steps)?)\s+(?:\d+\s+)?([0-9.]+)(?:\s|$)")
 
 
 def timer_table(output):
@@ -39,7 +39,13 @@ def timer_table(output):
 def main():
     if len(sys.argv) != 6:
         sys.exit(__doc__)
-    problem, steps, rounds, bins = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
+    problem, steps, bins = sys.argv[1], sys.argv[2], sys.argv[4:]
+    if not sys.argv[3].isdigit():
+        sys.exit("ROUNDS must be a whole number")
+    rounds = int(sys.argv[3])
+    for b in bins:
+        if not os.access(b, os.X_OK):
+            sys.exit("not an executable: " + b)
     if rounds < 1:
         sys.exit("ROUNDS must be at least 1")
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -59,14 +65,15 @@ def main():
                 if r.returncode != 0:
                     sys.exit("%s exited %d:\n%s" % (b, r.returncode, r.stderr))
                 table = timer_table(r.stdout + r.stderr)
-                if not table:
-                    sys.exit("%s printed no timer table" % b)
+                if "all steps" not in table:
+                    sys.exit("%s printed no whole timer table (no 'all steps' row)" % b)
                 for step, seconds in table.items():
                     best[i][step] = min(best[i].get(step, seconds), seconds)
         print("%-30s%12s%12s%8s" % ("step (least total s)", "A", "B", "A/B"))
-        for step, a in best[0].items():
-            b = best[1].get(step)
-            if b is None:
+        for step in list(best[0]) + [s for s in best[1] if s not in best[0]]:
+            a, b = best[0].get(step), best[1].get(step)
+            if a is None or b is None:
+                print("%-30s%12s%12s" % (step, "-" if a is None else "%.3f" % a, "-" if b is None else "%.3f" % b))
                 continue
             print("%-30s%12.3f%12.3f%8.2f" % (step, a, b, a / b if b > 0 else float("nan")))
         same = filecmp.cmp(os.path.join(outs[0], "probes.csv"), os.path.join(outs[1], "probes.csv"), shallow=False)

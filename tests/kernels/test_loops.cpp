@@ -3,6 +3,8 @@
 // Rows::longest, which runs a box thin along k along i or j).
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include <mpmice/kernels/loops.hpp>
 
 using namespace mpmice;
@@ -15,18 +17,19 @@ IndexBox box_of(int i0, int i1, int j0, int j1, int k0, int k1) {
   return b;
 }
 
-// Boxes thin along k and longer along i, along j, or both equally; thin in every
-// direction; and long along k (rows along k for either choice).
+// Boxes thin along k and longer along i (in 3 pieces of detail::row_piece), along j (in
+// one piece, and in 3), or both equally; thin in every direction; long along k; empty.
+// None starts at 0, so a lost lower corner shows.
 std::vector<IndexBox> sample_boxes() {
-  return {box_of(2, 42, 1, 4, 3, 4),  box_of(0, 3, 2, 33, 0, 5),  box_of(1, 13, 1, 13, 2, 4),
-          box_of(0, 5, 0, 5, 0, 5),   box_of(1, 4, 0, 3, 2, 22),  box_of(0, 9, 0, 1, 0, 7),
-          box_of(3, 3, 0, 10, 0, 1)};  // the last one empty
+  return {box_of(2, 150, 1, 4, 3, 4),  box_of(1, 4, 5, 37, 2, 7),  box_of(1, 3, 3, 143, 1, 3),
+          box_of(1, 13, 1, 13, 2, 4),  box_of(1, 6, 2, 7, 3, 8),   box_of(1, 4, 1, 4, 2, 22),
+          box_of(3, 12, 2, 3, 1, 8),   box_of(3, 3, 1, 10, 1, 2)};  // the last one empty
 }
 
-// How often each index of a 44 x 36 x 24 array was visited.
+// How often each index of a 160 x 150 x 24 array was visited.
 template <Rows Choice>
 Kokkos::View<int***>::HostMirror visits(const IndexBox& box) {
-  Kokkos::View<int***> count("count", 44, 36, 24);
+  Kokkos::View<int***> count("count", 160, 150, 24);
   for_each_index<Choice>("test::visits", box, KOKKOS_LAMBDA(long i, long j, long k) {
     Kokkos::atomic_add(&count(i, j, k), 1);
   });
@@ -40,8 +43,8 @@ void expect_each_index_once() {
   for (const IndexBox& box : sample_boxes()) {
     const auto h = visits<Choice>(box);
     long wrong = 0;
-    for (int i = 0; i < 44; ++i)
-      for (int j = 0; j < 36; ++j)
+    for (int i = 0; i < 160; ++i)
+      for (int j = 0; j < 150; ++j)
         for (int k = 0; k < 24; ++k) wrong += h(i, j, k) != (box.contains(i, j, k) ? 1 : 0);
     EXPECT_EQ(wrong, 0) << "box " << box.lo[0] << ".." << box.hi[0] << " x " << box.lo[1] << ".." << box.hi[1]
                         << " x " << box.lo[2] << ".." << box.hi[2];
@@ -69,6 +72,23 @@ void expect_sum_and_max() {
 }
 
 }  // namespace
+
+// Which index the rows follow: i or j (the longer, i on a tie) only for Rows::longest,
+// fewer than 8 cells along k and at least 8 along i or j; rows along i or j in pieces.
+TEST(Loops, RowDirection) {
+  const auto along = [](const IndexBox& b, Rows c) { return detail::BoxRows(b, c).along; };
+  EXPECT_EQ(along(box_of(0, 20, 0, 10, 0, 1), Rows::longest), 0);
+  EXPECT_EQ(along(box_of(0, 10, 0, 20, 0, 1), Rows::longest), 1);
+  EXPECT_EQ(along(box_of(0, 20, 0, 20, 0, 2), Rows::longest), 0);
+  EXPECT_EQ(along(box_of(0, 20, 0, 20, 0, 8), Rows::longest), 2);
+  EXPECT_EQ(along(box_of(0, 7, 0, 7, 0, 2), Rows::longest), 2);
+  EXPECT_EQ(along(box_of(0, 400, 0, 1, 0, 1), Rows::along_k), 2);
+  const detail::BoxRows tube(box_of(2, 402, 2, 3, 2, 3), Rows::longest);
+  EXPECT_EQ(tube.along, 0);
+  EXPECT_EQ(tube.rows, (400 + detail::row_piece - 1) / detail::row_piece);
+  EXPECT_EQ(tube.lo(0), 2);
+  EXPECT_EQ(tube.hi(tube.rows - 1), 402);
+}
 
 TEST(Loops, EveryIndexOnceAlongK) { expect_each_index_once<Rows::along_k>(); }
 TEST(Loops, EveryIndexOnceAlongTheLongest) { expect_each_index_once<Rows::longest>(); }

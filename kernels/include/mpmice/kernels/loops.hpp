@@ -47,10 +47,11 @@ enum class Reduction { sum, max };
 /// Which index `for_each_index` and `reduce_over_index` run as the vector loop on the
 /// host. `along_k`: always k, the contiguous one. `longest`: k, unless the box is thin
 /// along k (fewer than `detail::short_row` cells: a quasi-1D or 2D problem, a face's
-/// slab) and longer along i or j; then the longer of those, with strided reads and
-/// writes (gathers). For bodies with much arithmetic per value they touch (the ICE cell
-/// kernels), which rows of a few cells along k leave scalar; streaming bodies (copies,
-/// averages of neighbours) keep k, where strided access costs more than vectors save
+/// slab) and has at least that many along i or j; then the longer of those (i on a
+/// tie), with strided reads and writes (gathers), in pieces of `detail::row_piece`.
+/// For bodies with much arithmetic per value they touch (the ICE cell kernels), which
+/// rows of a few cells along k leave scalar; streaming bodies (copies, averages of
+/// neighbours) keep k, where strided access costs more than vectors save
 /// (docs/design.md, "Cell loops that vectorise").
 enum class Rows { along_k, longest };
 
@@ -92,11 +93,17 @@ MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
 /// With Rows::longest, a box with fewer cells than this along k runs along i or j.
 constexpr long short_row = 8;
 
-/// The rows of a box as `for_each_index` runs them on the host: along index `along`
-/// from lo to hi, row r with fixed indices a(r) and b(r) (the other two, in order).
+/// Cells per piece of a row along i or j: a quasi-1D box (the Sod tube, 400 x 1 x 1)
+/// has one such row, which whole would run on one thread.
+constexpr long row_piece = 64;
+
+/// The rows of a box as `for_each_index` runs them on the host: along index `along`,
+/// row r from lo(r) to hi(r) with fixed indices a(r) and b(r) (the other two, in
+/// order). Rows along k are whole; rows along i or j come in pieces of row_piece cells.
 struct BoxRows {
   int along;
-  long lo, hi, rows;
+  long rows;
+  long first, last, pieces;  // the rows' extent along `along`, and the pieces of each
   long a_lo, b_lo, b_count;
 
   BoxRows(const IndexBox& box, Rows choice) {
@@ -104,15 +111,18 @@ struct BoxRows {
     const bool thin = choice == Rows::longest && n2 < short_row;
     along = thin && n0 >= short_row && n0 >= n1 ? 0 : thin && n1 >= short_row ? 1 : 2;
     const int ia = along == 0 ? 1 : 0, ib = along == 2 ? 1 : 2;
-    lo = box.lo[along];
-    hi = box.hi[along];
+    first = box.lo[along];
+    last = box.hi[along];
+    pieces = along == 2 ? 1 : (last - first + row_piece - 1) / row_piece;
     a_lo = box.lo[ia];
     b_lo = box.lo[ib];
     b_count = box.extent(ib);
-    rows = box.extent(ia) * b_count;
+    rows = box.extent(ia) * b_count * pieces;
   }
-  long a(long r) const { return a_lo + r / b_count; }
-  long b(long r) const { return b_lo + r % b_count; }
+  long lo(long r) const { return first + (r % pieces) * row_piece; }
+  long hi(long r) const { return pieces == 1 || lo(r) + row_piece > last ? last : lo(r) + row_piece; }
+  long a(long r) const { return a_lo + r / pieces / b_count; }
+  long b(long r) const { return b_lo + r / pieces % b_count; }
 };
 
 /// launch(std::integral_constant<int, A>) for the box's row direction A: only k when
@@ -238,7 +248,7 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
   detail::with_row_direction<Choice>(rows, [&](auto along) {
     constexpr int A = decltype(along)::value;
     Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, rows.rows), [=](long r) {
-      detail::simd_row<A>(f, rows.lo, rows.hi, rows.a(r), rows.b(r));
+      detail::simd_row<A>(f, rows.lo(r), rows.hi(r), rows.a(r), rows.b(r));
     });
   });
 #endif
@@ -269,7 +279,7 @@ double reduce_over_index(const std::string& label, const IndexBox& box, const F&
   detail::with_row_direction<Choice>(rows, [&](auto along) {
     constexpr int A = decltype(along)::value;
     result = detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, rows.rows), [=](long r) {
-      return detail::simd_row_reduce<R, A>(f, rows.lo, rows.hi, rows.a(r), rows.b(r));
+      return detail::simd_row_reduce<R, A>(f, rows.lo(r), rows.hi(r), rows.a(r), rows.b(r));
     });
   });
   return result;
