@@ -76,18 +76,12 @@ KOKKOS_FORCEINLINE_FUNCTION decltype(auto) call_in_row(const F& f, long n, long 
 }
 
 /// One run of `for_each_index` or `for_each_particle`: f(fixed..., k) for k from lo to
-/// hi (a row (i, j) of cells, or a chunk of particles), or with k in place `Along` of a
-/// row along i or j. Flattened (every call inside inlined), because a call left in the
-/// loop keeps it from vectorising.
-template <int Along = 2, class F, class... Fixed>
+/// hi (a row (i, j) of cells, or a chunk of particles). Flattened (every call inside
+/// inlined), because a call left in the loop keeps it from vectorising.
+template <class F, class... Fixed>
 MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
-  if constexpr (Along == 2) {
-    MPMICE_PRAGMA_SIMD
-    for (long k = lo; k < hi; ++k) f(fixed..., k);
-  } else {
-    MPMICE_PRAGMA_SIMD
-    for (long k = lo; k < hi; ++k) call_in_row<Along>(f, k, fixed...);
-  }
+  MPMICE_PRAGMA_SIMD
+  for (long k = lo; k < hi; ++k) f(fixed..., k);
 }
 
 /// With Rows::longest, a box with fewer cells than this along k runs along i or j.
@@ -172,10 +166,16 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
   return acc;
 }
 
-/// A row of `for_each_index`: simd_run as a row function of its own (MPMICE_ROW).
+/// A row of `for_each_index` as a row function of its own (MPMICE_ROW): simd_run along
+/// k, or the same vector loop with the row's index n in place `Along` (i or j).
 template <int Along, class F>
 MPMICE_ROW void simd_row(const F& f, long lo, long hi, long a, long b) {
-  simd_run<Along>(f, lo, hi, a, b);
+  if constexpr (Along == 2) {
+    simd_run(f, lo, hi, a, b);
+  } else {
+    MPMICE_PRAGMA_SIMD
+    for (long n = lo; n < hi; ++n) call_in_row<Along>(f, n, a, b);
+  }
 }
 
 /// The body f(i, j, k) of a row along i or j as a body of the row's index alone.
