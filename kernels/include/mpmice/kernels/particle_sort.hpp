@@ -45,6 +45,13 @@ void sort_particles_by_window(const Patch& patch, ParticleSet& particles) {
         }
         key(p) = (c[0] * b1 + c[1]) * b2 + c[2];
       });
+  // Already in order (a set made in order, or no particle changed window since the
+  // last sort): nothing moves, and the gather of every component is skipped.
+  long out_of_order = 0;
+  Kokkos::parallel_reduce(
+      "mpmice::window_order", Kokkos::RangePolicy<ExecSpace>(0, n - 1),
+      KOKKOS_LAMBDA(long p, long& count) { count += key(p) > key(p + 1) ? 1 : 0; }, out_of_order);
+  if (out_of_order == 0) return;
   const int nbin = b0 * b1 * b2;
   using Comp = Kokkos::BinOp1D<Kokkos::View<int*, MemSpace>>;
   Kokkos::BinSort<Kokkos::View<int*, MemSpace>, Comp> sorter(key, Comp(nbin, 0, nbin), /*sort_within_bins=*/false);
