@@ -1,5 +1,10 @@
 """Table of kernel benchmark results: one run on 1 thread, one on 2 (JSON files of
-Google Benchmark). Bandwidth is relative to the STREAM triad of the same run."""
+Google Benchmark). Bandwidth is relative to the STREAM triad of the same run.
+
+Usage: report.py THREADS1.json THREADS2.json [TRIAD1.json TRIAD2.json]
+The optional files hold repeated triad runs of the same binary on 1 and 2 threads; the
+roof is the best triad of all runs on that many threads (one triad caught in a slow
+stretch of this machine made a whole table's percentages 1.5-2x too high)."""
 import json
 import sys
 
@@ -10,14 +15,28 @@ def load(path):
     return {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
 
 
+def roof(paths):
+    """The memory roof: the best triad on the largest arrays (the small ones fit in
+    cache) among every run, repetitions included, in the JSON files `paths`."""
+    runs = []
+    for path in paths:
+        with open(path) as f:
+            for b in json.load(f)["benchmarks"]:
+                if "stream_triad" in b["name"] and b.get("run_type", "iteration") == "iteration":
+                    runs.append((int(b["name"].split("n:")[1].split("/")[0]), b["bytes_per_second"]))
+    if not runs:
+        return 0.0
+    largest = max(n for n, _ in runs)
+    return max(bps for n, bps in runs if n == largest)
+
+
 def main():
+    if len(sys.argv) not in (3, 5):
+        sys.exit(__doc__)
     one, two = load(sys.argv[1]), load(sys.argv[2])
-    # The memory roof: the triad on the largest arrays (the small ones fit in cache).
-    def roof(results):
-        runs = [(int(n.split("n:")[1].split("/")[0]), b["bytes_per_second"]) for n, b in results.items()
-                if "stream_triad" in n]
-        return max(runs)[1] if runs else 0.0
-    triad, triad1 = roof(two), roof(one)
+    extra = sys.argv[3:]
+    triad1 = roof([sys.argv[1]] + extra[:1])
+    triad = roof([sys.argv[2]] + extra[1:])
     print("STREAM triad (largest arrays): %.1f GB/s on 2 threads, %.1f GB/s on 1" % (triad / 1e9, triad1 / 1e9))
     print()
     print("| kernel | size | items/s | GB/s | % of triad | 2-thread speedup |")
