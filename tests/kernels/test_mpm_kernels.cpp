@@ -654,7 +654,8 @@ TEST(Quanta, RoundedSumsDoNotDependOnTheirOrder) {
 
 // Sorted by the window of Shape (sort_particles_by_window), every particle is kept with
 // all its values, and their windows' middle nodes (the cell for the linear shape, the
-// nearest node for GIMP, local indices) come in row-major order.
+// nearest node for GIMP, local indices) come in row-major order; sorted again, nothing
+// moves.
 template <class Shape>
 void expect_sorted_by_window() {
   Grid g;
@@ -693,6 +694,12 @@ void expect_sorted_by_window() {
     last_key = key;
   }
   EXPECT_EQ(idsum, 299L * 300 / 2);
+  // Sorted again, already in order: nothing moves, the same views are kept (no gather).
+  const double* before = ps.data().data();
+  sort_particles_by_window<Shape>(patch, ps);
+  EXPECT_EQ(ps.data().data(), before);
+  auto again = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
+  for (long q = 0; q < 300; ++q) ASSERT_EQ(again(q), sid(q));
 }
 
 TEST(Transfer, SortByCellKeepsEveryParticle) { expect_sorted_by_window<LinearShape>(); }
