@@ -3,7 +3,9 @@
 // particles on a lattice with random jitter, all on one patch.
 #include <benchmark/benchmark.h>
 
-#include <random>
+#include <cstdint>
+#include <memory>
+#include <string>
 
 #include <mpmice/kernels/grid_state.hpp>
 #include <mpmice/kernels/materials.hpp>
@@ -35,14 +37,28 @@ inline MaterialTable gas_table(int materials) {
   return t;
 }
 
-/// Fill every entry of `f` with values around `base`, varying by +-`spread`.
+/// A uniform number in [0, 1) made from `seed` and `index` alone (the splitmix64 hash),
+/// so that a parallel fill gives the same values on any number of threads.
+KOKKOS_INLINE_FUNCTION double uniform01(std::uint64_t seed, std::uint64_t index) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + index + 1;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return double(z >> 11) * 0x1.0p-53;
+}
+
+/// Fill every entry of `f` with values around `base`, varying by +-`spread`. In
+/// parallel: the largest inputs are 2 GB, and a serial fill was most of the benchmarks'
+/// set-up.
 template <class View>
 View randomised(View f, double base, double spread, unsigned seed) {
-  auto h = Kokkos::create_mirror_view(f);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  for (std::size_t i = 0; i < h.size(); ++i) h.data()[i] = base * (1.0 + u(rng));
-  Kokkos::deep_copy(f, h);
+  const auto flat = Kokkos::View<typename View::value_type*, typename View::memory_space,
+                                 Kokkos::MemoryTraits<Kokkos::Unmanaged>>(f.data(), f.span());
+  Kokkos::parallel_for(
+      "mpmice::bench::randomised", Kokkos::RangePolicy<ExecSpace>(0, long(f.span())), KOKKOS_LAMBDA(long i) {
+        flat(i) = base * (1.0 + spread * (2.0 * uniform01(seed, std::uint64_t(i)) - 1.0));
+      });
+  Kokkos::fence();
   return f;
 }
 
@@ -67,34 +83,66 @@ inline VectorField4 node_vector(const Patch& p, double base, double spread, unsi
 }
 
 /// `count` particles spread over the patch's owned cells (sorted by cell; the particle
-/// benchmarks sort them by their shape's window, as the driver does), F = I, small random velocities.
+/// benchmarks sort them by their shape's window, as the driver does), F = I, small random
+/// velocities. Filled in parallel, as `randomised`.
 inline ParticleSet particles_in(const Patch& p, long count, unsigned seed) {
-  ParticleSet ps("bench", std::size_t(count));
+  ParticleSet ps("bench", std::size_t(count));  // zeroed
   ps.resize(std::size_t(count));
-  auto h = Kokkos::create_mirror_view(ps.data());
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const ParticleData h = ps.data();
   const long cells = p.grid.cell_count();
-  for (long q = 0; q < count; ++q) {
-    for (int c = 0; c < particle_field_count; ++c) h(q, c) = 0.0;
-    const long cell = q * cells / count;  // in cell order
-    const long idx[3] = {cell / (long(p.grid.cells[1]) * p.grid.cells[2]), (cell / p.grid.cells[2]) % p.grid.cells[1],
-                         cell % p.grid.cells[2]};
-    for (int d = 0; d < 3; ++d) {
-      h(q, column(ParticleField::x) + d) = (idx[d] + 0.05 + 0.9 * u(rng)) * p.grid.spacing[d];
-      h(q, column(ParticleField::vx) + d) = u(rng) - 0.5;
-      h(q, column(ParticleField::size_x) + d) = 0.5;
-      h(q, tensor_column(ParticleField::F00, d, d)) = 1.0;
-      h(q, tensor_column(ParticleField::be00, d, d)) = 1.0;
-      for (int e = 0; e < 3; ++e) h(q, tensor_column(ParticleField::L00, d, e)) = 10.0 * (u(rng) - 0.5);
-    }
-    h(q, column(ParticleField::mass)) = 1e-6;
-    h(q, column(ParticleField::volume)) = 1e-10;
-    h(q, column(ParticleField::temperature)) = 300;
-  }
-  Kokkos::deep_copy(ps.data(), h);
+  const long ny = p.grid.cells[1], nz = p.grid.cells[2];
+  const Kokkos::Array<double, 3> h_cell = p.grid.spacing_array();
+  Kokkos::parallel_for(
+      "mpmice::bench::particles_in", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(long q) {
+        // 15 random numbers a particle: position (3), velocity (3), velocity gradient (9).
+        auto u = [&](int r) { return uniform01(seed, std::uint64_t(q) * 15 + std::uint64_t(r)); };
+        const long cell = q * cells / count;  // in cell order
+        const long idx[3] = {cell / (ny * nz), (cell / nz) % ny, cell % nz};
+        for (int d = 0; d < 3; ++d) {
+          h(q, column(ParticleField::x) + d) = (double(idx[d]) + 0.05 + 0.9 * u(d)) * h_cell[d];
+          h(q, column(ParticleField::vx) + d) = u(3 + d) - 0.5;
+          h(q, column(ParticleField::size_x) + d) = 0.5;
+          h(q, tensor_column(ParticleField::F00, d, d)) = 1.0;
+          h(q, tensor_column(ParticleField::be00, d, d)) = 1.0;
+          for (int e = 0; e < 3; ++e) h(q, tensor_column(ParticleField::L00, d, e)) = 10.0 * (u(6 + 3 * d + e) - 0.5);
+        }
+        h(q, column(ParticleField::mass)) = 1e-6;
+        h(q, column(ParticleField::volume)) = 1e-10;
+        h(q, column(ParticleField::temperature)) = 300;
+      });
+  Kokkos::fence();
   return ps;
 }
+
+/// The input that `make()` returns for `key`, kept until a call with another key, so
+/// that consecutive benchmarks (and Google Benchmark's repeated calls of one benchmark
+/// while it sizes its iterations) share their largest inputs instead of making them
+/// again: 4e6 particles are 2.2 GB, and making them was most of `ci/bench`'s time. One
+/// input is kept at a time, of any type; `key` must name the type as well as the
+/// values. For inputs the benchmarks read, or write without changing the work.
+/// `release_kept()` frees it before Kokkos is finalised (bench/main.cpp).
+struct KeptInput {
+  std::string key;
+  std::shared_ptr<void> value;
+};
+
+inline KeptInput& kept_input() {
+  static KeptInput slot;
+  return slot;
+}
+
+template <class T, class Make>
+const T& kept(const std::string& key, Make&& make) {
+  KeptInput& slot = kept_input();
+  if (!slot.value || slot.key != key) {
+    slot = {};  // the old input is freed before the new one is made
+    slot.value = std::make_shared<T>(make());
+    slot.key = key;
+  }
+  return *static_cast<const T*>(slot.value.get());
+}
+
+inline void release_kept() { kept_input() = {}; }
 
 /// The cube sizes of the cell and node benchmarks: 16^3 to 128^3 cells.
 inline void cube_sizes(benchmark::internal::Benchmark* b) {

@@ -6,6 +6,8 @@
 #include <Kokkos_Core.hpp>
 #include <mpmice/kernels/version.hpp>
 
+#include "bench_setup.hpp"
+
 namespace {
 
 int run_benchmarks(int argc, char* argv[]) {
@@ -18,6 +20,7 @@ int run_benchmarks(int argc, char* argv[]) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
   benchmark::RunSpecifiedBenchmarks();
+  mpmice::bench::release_kept();
   benchmark::Shutdown();
   return 0;
 }

@@ -41,9 +41,14 @@ def main():
     print()
     print("| kernel | size | items/s | GB/s | % of triad | 2-thread speedup |")
     print("|---|---|---:|---:|---:|---:|")
-    for name, b in two.items():
-        if "stream_triad" in name:
-            continue
+    # One kernel's sizes together, kernels in the order they first ran (the particle
+    # benchmarks run count by count, sharing their particles).
+    names = [name for name in two if "stream_triad" not in name]
+    first = {}
+    for i, name in enumerate(names):
+        first.setdefault(name.partition("/")[0], i)
+    for name in sorted(names, key=lambda name: first[name.partition("/")[0]]):
+        b = two[name]
         kernel, _, rest = name.partition("/")
         size = rest.replace("/manual_time", "")
         gbs = b.get("bytes_per_second", 0.0) / 1e9
