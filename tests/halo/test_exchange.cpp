@@ -93,21 +93,19 @@ struct Case {
   std::array<bool, 3> periodic;
 };
 
-}  // namespace
-
-class Exchange : public ::testing::TestWithParam<Case> {};
-
-TEST_P(Exchange, FillsEveryGhostExactly) {
+// Fill `materials` material slots of every location on a grid of `cells`, depth 1 and 2;
+// count the wrong entries.
+void expect_fills_every_ghost(const Case& c, int materials, std::array<int, 3> cells = {10, 9, 7}) {
   Grid grid;
-  grid.cells = {10, 9, 7};
+  grid.cells = cells;
   DecompositionOptions opt;
-  opt.periodic = GetParam().periodic;
+  opt.periodic = c.periodic;
   opt.ghosts = 2;
   Decomposition dec(MPI_COMM_WORLD, grid, opt);
   Halo halo(dec);
   for (Location loc : all_locations)
     for (int depth : {1, 2}) {
-      Field4 f = make_field("f", dec.patch(), loc, 2);
+      Field4 f = make_field("f", dec.patch(), loc, materials);
       set_owned(f, dec, loc);
       halo.fill(f, loc, depth);
       EXPECT_EQ(count_wrong(f, dec, loc, depth), 0)
@@ -124,21 +122,21 @@ TEST_P(Exchange, FillsEveryGhostExactly) {
 // Reverse sum: every rank writes the analytic value into its owned entries and its
 // ghosts (a scatter would), then sums. An owned entry then holds the value times the
 // number of patches (and periodic images) whose ghosted box covers it.
-TEST_P(Exchange, SumIntoOwnedAddsEveryContribution) {
+void expect_sums_every_contribution(const Case& c, int materials, std::array<int, 3> cells = {10, 9, 7}) {
   Grid grid;
-  grid.cells = {10, 9, 7};
+  grid.cells = cells;
   DecompositionOptions opt;
-  opt.periodic = GetParam().periodic;
+  opt.periodic = c.periodic;
   Decomposition dec(MPI_COMM_WORLD, grid, opt);
   Halo halo(dec);
   const Patch& p = dec.patch();
   for (Location loc : all_locations)
     for (int depth : {1, 2}) {
-      Field4 f = make_field("f", p, loc, 2);
+      Field4 f = make_field("f", p, loc, materials);
       const IndexBox reach = p.ghosted(loc, depth);
       auto h = Kokkos::create_mirror_view(f);
       Kokkos::deep_copy(h, 0.0);
-      for (int m = 0; m < 2; ++m)
+      for (int m = 0; m < materials; ++m)
         for (int i = reach.lo[0]; i < reach.hi[0]; ++i)
           for (int j = reach.lo[1]; j < reach.hi[1]; ++j)
             for (int k = reach.lo[2]; k < reach.hi[2]; ++k) {
@@ -170,7 +168,7 @@ TEST_P(Exchange, SumIntoOwnedAddsEveryContribution) {
       };
       const IndexBox own = p.owned(loc);
       int wrong = 0;
-      for (int m = 0; m < 2; ++m)
+      for (int m = 0; m < materials; ++m)
         for (int i = own.lo[0]; i < own.hi[0]; ++i)
           for (int j = own.lo[1]; j < own.hi[1]; ++j)
             for (int k = own.lo[2]; k < own.hi[2]; ++k) {
@@ -183,6 +181,28 @@ TEST_P(Exchange, SumIntoOwnedAddsEveryContribution) {
       EXPECT_EQ(wrong, 0) << "location " << int(loc) << " depth " << depth << " rank "
                           << dec.rank();
     }
+}
+
+}  // namespace
+
+class Exchange : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Exchange, FillsEveryGhostExactly) { expect_fills_every_ghost(GetParam(), 2); }
+TEST_P(Exchange, SumIntoOwnedAddsEveryContribution) { expect_sums_every_contribution(GetParam(), 2); }
+
+// Slabs over the size that halo.cpp copies on one thread (serial_slab_entries, 2^15
+// entries), whose pack and unpack run in parallel over their longest index: 256 material
+// slots (on one rank at depth 2, the y and z sweeps' slabs of cells are 256 x 14 x 2 x 7
+// and 256 x 14 x 13 x 2 entries, in parallel over material and i), and one slot on a
+// grid wide in y and z (the x sweep's slab 1 x 2 x 134 x 134, in parallel over j). The
+// thinnest slabs, and most on more ranks, stay on one thread.
+TEST_P(Exchange, FillsEveryGhostOfLargeSlabs) {
+  expect_fills_every_ghost(GetParam(), 256);
+  expect_fills_every_ghost(GetParam(), 1, {3, 130, 130});
+}
+TEST_P(Exchange, SumsEveryContributionOfLargeSlabs) {
+  expect_sums_every_contribution(GetParam(), 256);
+  expect_sums_every_contribution(GetParam(), 1, {3, 130, 130});
 }
 
 INSTANTIATE_TEST_SUITE_P(Periodicity, Exchange,
