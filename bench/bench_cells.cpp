@@ -5,8 +5,13 @@
 //                        kappa (4), p_eq, SK, TMV (shared, 3)             -> 56 N + 32
 //  face_velocity (x):    reads rho, v, u per cell (3), p (shared); writes U^f (1)
 //                        per face (each cell's values are read once)        -> 32 N + 8
+//  face_exchange (x):    reads theta, v per cell (2), U^f per face (1); writes
+//                        U^f after the exchange (1)                        -> 32 N
+//                        (one material: the face velocity copied           -> 16)
 //  exchange:             reads mL, PL (3), EL, v, theta, T^n (8); writes u (3), T,
 //                        Tdot (5)                                          -> 104 N
+//  pressure_update (no mass sources): reads Adv[theta] (1), SK, p_eq (shared, 2);
+//                        writes dP_dil, dP_mx, p (shared, 3)               -> 8 N + 40
 //  advection_change (1st order, one material): reads q, 3 face velocities;
 //                        writes the change                                 -> 40
 //  advection_change (2nd order, compatible, as the driver moves momentum and
@@ -19,7 +24,9 @@
 #include <mpmice/kernels/advection.hpp>
 #include <mpmice/kernels/equilibrate_pressure.hpp>
 #include <mpmice/kernels/exchange.hpp>
+#include <mpmice/kernels/face_exchange.hpp>
 #include <mpmice/kernels/face_velocity.hpp>
+#include <mpmice/kernels/pressure_update.hpp>
 
 #include "bench_setup.hpp"
 
@@ -60,6 +67,20 @@ void BM_face_velocity(benchmark::State& state) {
   report(state, p.grid.cell_count(), 32.0 * mats + 8.0);
 }
 
+void BM_face_exchange(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const MaterialTable t = gas_table(mats);
+  const Field4 theta = cell_field(p, mats, 1.0 / mats, 0.1, 1), v = cell_field(p, mats, 0.8, 0.05, 2);
+  const Field4 face_vel = randomised(make_field("U", p, Location::x_face, mats), 1.0, 2.0, 3),
+               out = make_field("U_me", p, Location::x_face, mats);
+  IndexBox faces = p.owned_cells();
+  faces.hi[0] += 1;
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { face_exchange(faces, 0, 1e-7, t, theta, v, face_vel, out); }));
+  report(state, p.grid.cell_count(), mats == 1 ? 16.0 : 32.0 * mats);
+}
+
 void BM_exchange(benchmark::State& state) {
   const int n = int(state.range(0)), mats = int(state.range(1));
   const Patch p = cube_patch(n);
@@ -77,6 +98,20 @@ void BM_exchange(benchmark::State& state) {
                t_me, tdot);
     }));
   report(state, p.grid.cell_count(), 104.0 * mats);
+}
+
+void BM_pressure_update(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const Field4 adv = cell_field(p, mats, 1e-4, 1.0, 1), v = cell_field(p, mats, 0.8, 0.05, 2);
+  const Field3 sum_kappa = cell_scalar(p, 7e-6, 0.1, 3), press_eq = cell_scalar(p, 101325, 0.05, 4);
+  const Field3 dp_dil = make_field("dp_dil", p, Location::cell), dp_mx = make_field("dp_mx", p, Location::cell),
+               press = make_field("p", p, Location::cell);
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] {
+      pressure_update(p.owned_cells(), 1e-9, mats, adv, ConstField4(), v, sum_kappa, press_eq, dp_dil, dp_mx, press);
+    }));
+  report(state, p.grid.cell_count(), 8.0 * mats + 40.0);
 }
 
 // Face velocities of random sign, -1 to 3 m/s (a quarter of the faces carry inflow),
@@ -153,7 +188,9 @@ void cell_sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_face_exchange)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_pressure_update)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_advection_first_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_advection_second_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_limited_gradient)->Apply(cube_sizes)->UseManualTime();
