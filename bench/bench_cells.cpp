@@ -12,6 +12,10 @@
 //                        Tdot (5)                                          -> 104 N
 //  pressure_update (no mass sources): reads Adv[theta] (1), SK, p_eq (shared, 2);
 //                        writes dP_dil, dP_mx, p (shared, 3)               -> 8 N + 40
+//  pressure_work_heat (fluids only): reads theta, kappa, W, rho, mL, PL (3), Q (3),
+//                        u^ME (3) (14), reads and writes T^ME, Tdot (4); reads p^f,
+//                        Phi^f, Phi_s^f (3 each, a face read once) and SK (shared, 10)
+//                                                                          -> 144 N + 80
 //  advection_change (1st order, one material): reads q, 3 face velocities;
 //                        writes the change                                 -> 40
 //  advection_change (2nd order, compatible, as the driver moves momentum and
@@ -27,6 +31,7 @@
 #include <mpmice/kernels/face_exchange.hpp>
 #include <mpmice/kernels/face_velocity.hpp>
 #include <mpmice/kernels/pressure_update.hpp>
+#include <mpmice/kernels/pressure_work_heat.hpp>
 
 #include "bench_setup.hpp"
 
@@ -114,6 +119,39 @@ void BM_pressure_update(benchmark::State& state) {
   report(state, p.grid.cell_count(), 8.0 * mats + 40.0);
 }
 
+void BM_pressure_work_heat(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const MaterialTable t = gas_table(mats);
+  // Magnitudes of a gas cell of 1 mm at 1 bar moving at about 1 m/s with dt = 1e-7 s,
+  // the volume fluxes of random sign: the heat is at most about 5e-5 of a cell's thermal
+  // energy, so the temperatures the kernel changes in place move little per iteration
+  // (and the work per cell does not depend on them).
+  const Location faces[3] = {Location::x_face, Location::y_face, Location::z_face};
+  PressureWorkInputs in;
+  for (int d = 0; d < 3; ++d) {
+    in.press_face[d] = randomised(make_field("pf", p, faces[d]), 101325, 0.05, 1 + d);
+    in.face_flux[d] = randomised(make_field("phi", p, faces[d]), 1e-13, 2.0, 4 + d);
+    in.solid_face_flux[d] = randomised(make_field("phi_s", p, faces[d]), 1e-14, 2.0, 7 + d);
+  }
+  in.vol_frac = cell_field(p, mats, 1.0 / mats, 0.1, 10);
+  in.work = cell_field(p, mats, 1e-9, 2.0, 11);
+  in.kappa = cell_field(p, mats, 7e-6, 0.1, 12);
+  in.sum_kappa = cell_scalar(p, 7e-6, 0.1, 13);
+  in.rho = cell_field(p, mats, 1.0 / mats, 0.1, 14);
+  in.mass_L = cell_field(p, mats, 1e-9 / mats, 0.1, 15);
+  in.mom_L = {cell_field(p, mats, 1e-9, 2.0, 16), cell_field(p, mats, 1e-9, 2.0, 17), cell_field(p, mats, 1e-9, 2.0, 18)};
+  in.mom_source = {cell_field(p, mats, 1e-12, 2.0, 19), cell_field(p, mats, 1e-12, 2.0, 20),
+                   cell_field(p, mats, 1e-12, 2.0, 21)};
+  in.vel_me = {cell_field(p, mats, 1.0, 2.0, 22), cell_field(p, mats, 1.0, 2.0, 23),
+               cell_field(p, mats, 1.0, 2.0, 24)};
+  const Field4 temp = cell_field(p, mats, 300, 0.1, 25), rate = make_field("Tdot", p, Location::cell, mats);
+  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3}, gravity{0, 0, 0};
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] { pressure_work_heat(p.owned_cells(), h, 1e-7, gravity, t, in, temp, rate); }));
+  report(state, p.grid.cell_count(), 144.0 * mats + 80.0);
+}
+
 // Face velocities of random sign, -1 to 3 m/s (a quarter of the faces carry inflow),
 // on cell-shaped arrays: the kernel reads U[d](m, i+1) at most one past the owned
 // cells, inside the ghost layers.
@@ -191,6 +229,7 @@ BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_exchange)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_pressure_update)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_pressure_work_heat)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_advection_first_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_advection_second_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_limited_gradient)->Apply(cube_sizes)->UseManualTime();
