@@ -140,7 +140,8 @@ void BM_pressure_work_heat(benchmark::State& state) {
   in.sum_kappa = cell_scalar(p, 7e-6, 0.1, 13);
   in.rho = cell_field(p, mats, 1.0 / mats, 0.1, 14);
   in.mass_L = cell_field(p, mats, 1e-9 / mats, 0.1, 15);
-  in.mom_L = {cell_field(p, mats, 1e-9, 2.0, 16), cell_field(p, mats, 1e-9, 2.0, 17), cell_field(p, mats, 1e-9, 2.0, 18)};
+  in.mom_L = {cell_field(p, mats, 1e-9, 2.0, 16), cell_field(p, mats, 1e-9, 2.0, 17),
+              cell_field(p, mats, 1e-9, 2.0, 18)};
   in.mom_source = {cell_field(p, mats, 1e-12, 2.0, 19), cell_field(p, mats, 1e-12, 2.0, 20),
                    cell_field(p, mats, 1e-12, 2.0, 21)};
   in.vel_me = {cell_field(p, mats, 1.0, 2.0, 22), cell_field(p, mats, 1.0, 2.0, 23),
