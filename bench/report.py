@@ -9,21 +9,21 @@ import json
 import sys
 
 
-def load(path):
+def iterations(path):
+    """The results of a Google Benchmark JSON file, repetitions included, aggregates left out."""
     with open(path) as f:
-        data = json.load(f)
-    return {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
+        return [b for b in json.load(f)["benchmarks"] if b.get("run_type", "iteration") == "iteration"]
+
+
+def load(path):
+    return {b["name"]: b for b in iterations(path)}
 
 
 def roof(paths):
     """The memory roof: the best triad on the largest arrays (the small ones fit in
     cache) among every run, repetitions included, in the JSON files `paths`."""
-    runs = []
-    for path in paths:
-        with open(path) as f:
-            for b in json.load(f)["benchmarks"]:
-                if "stream_triad" in b["name"] and b.get("run_type", "iteration") == "iteration":
-                    runs.append((int(b["name"].split("n:")[1].split("/")[0]), b["bytes_per_second"]))
+    runs = [(int(b["name"].split("n:")[1].split("/")[0]), b["bytes_per_second"])
+            for path in paths for b in iterations(path) if "stream_triad" in b["name"]]
     if not runs:
         return 0.0
     largest = max(n for n, _ in runs)

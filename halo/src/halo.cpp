@@ -45,7 +45,7 @@ constexpr long serial_slab_entries = 1L << 15;
 // thin in its sweep's direction (2-3 layers), so the slab across k has rows of 2-3
 // entries, one call each through for_each_index. On a GPU: for_each_index.
 template <class F>
-void over_slab(const std::string& label, const Slab& s, const SlabRows& r, const F& f) {
+void over_slab(const std::string& label, const SlabRows& r, const F& f) {
 #if defined(MPMICE_DEVICE_BACKEND)
   for_each_index(label, r.box, f);
 #else
@@ -57,7 +57,7 @@ void over_slab(const std::string& label, const Slab& s, const SlabRows& r, const
         for (long k = b.lo[2]; k < b.hi[2]; ++k) f(mi, j, k);
       }
   };
-  if (s.size() < serial_slab_entries)
+  if (b.size() < serial_slab_entries)
     rows(b.lo[0], b.hi[0], b.lo[1], b.hi[1]);
   else if (b.extent(0) >= b.extent(1))
     Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(b.lo[0], b.hi[0]),
@@ -71,7 +71,7 @@ void over_slab(const std::string& label, const Slab& s, const SlabRows& r, const
 // Pack the slab of `f` into `buf`.
 void pack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpace>& buf) {
   const SlabRows r(s);
-  over_slab("mpmice::halo_pack", s, r, KOKKOS_LAMBDA(long mi, long j, long k) {
+  over_slab("mpmice::halo_pack", r, KOKKOS_LAMBDA(long mi, long j, long k) {
     buf(r.at(mi, j, k)) = f(r.m(mi), r.i(mi), j, k);
   });
 }
@@ -81,11 +81,11 @@ void unpack(const Field4U& f, const Slab& s, const Kokkos::View<double*, MemSpac
             bool add) {
   const SlabRows r(s);
   if (add)
-    over_slab("mpmice::halo_unpack_add", s, r, KOKKOS_LAMBDA(long mi, long j, long k) {
+    over_slab("mpmice::halo_unpack_add", r, KOKKOS_LAMBDA(long mi, long j, long k) {
       f(r.m(mi), r.i(mi), j, k) += buf(r.at(mi, j, k));
     });
   else
-    over_slab("mpmice::halo_unpack", s, r, KOKKOS_LAMBDA(long mi, long j, long k) {
+    over_slab("mpmice::halo_unpack", r, KOKKOS_LAMBDA(long mi, long j, long k) {
       f(r.m(mi), r.i(mi), j, k) = buf(r.at(mi, j, k));
     });
 }

@@ -48,18 +48,10 @@ KOKKOS_INLINE_FUNCTION constexpr int column(ParticleField f) { return static_cas
 class ParticleSet {
  public:
   ParticleSet() = default;
-  explicit ParticleSet(const std::string& label, std::size_t capacity = 0)
-      : m_label(label),
-        m_data(label + "_data", capacity, particle_field_count),
-        m_id(label + "_id", capacity) {}
+  explicit ParticleSet(const std::string& label, std::size_t capacity = 0) : ParticleSet(label, capacity, true) {}
   /// A set of `capacity` rows left unset (not zeroed), for a caller that writes them all.
   static ParticleSet unset(const std::string& label, std::size_t capacity) {
-    ParticleSet s;
-    s.m_label = label;
-    s.m_data = ParticleData(Kokkos::view_alloc(Kokkos::WithoutInitializing, label + "_data"), capacity,
-                            particle_field_count);
-    s.m_id = ParticleIds(Kokkos::view_alloc(Kokkos::WithoutInitializing, label + "_id"), capacity);
-    return s;
+    return ParticleSet(label, capacity, false);
   }
 
   std::size_t size() const { return m_size; }
@@ -91,6 +83,17 @@ class ParticleSet {
   }
 
  private:
+  // The two views of `capacity` rows, zeroed or left unset.
+  ParticleSet(const std::string& label, std::size_t capacity, bool zeroed)
+      : m_label(label),
+        m_data(allocate<ParticleData>(label + "_data", zeroed, capacity, particle_field_count)),
+        m_id(allocate<ParticleIds>(label + "_id", zeroed, capacity)) {}
+  template <class View, class... Extents>
+  static View allocate(const std::string& name, bool zeroed, Extents... extents) {
+    if (zeroed) return View(name, extents...);
+    return View(Kokkos::view_alloc(Kokkos::WithoutInitializing, name), extents...);
+  }
+
   std::string m_label;
   ParticleData m_data;
   ParticleIds m_id;
