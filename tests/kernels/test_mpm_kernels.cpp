@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <set>
 #include <vector>
 
 #include <mpmice/kernels/bad_particles.hpp>
@@ -282,9 +283,11 @@ TEST(Deformation, LargeVelocityGradientIsSubstepped) {
 // momentum g2p gives back balances what p2g took only then; shape.hpp). Particles sit
 // four cells apart, so a node's mass is one particle's weight times its mass of 1,
 // exactly; with an acceleration of 1 on every node, g2p's velocity change is its
-// sum of weights, added in the host loop's order. Before shape.hpp avoided it, GCC
-// fused products into FMAs differently in the vectorised g2p: half the particles
-// differed in the last bit.
+// sum of weights, added in the host loop's order: node by node for the linear shape,
+// direction by direction for GIMP (g2p never forms GIMP's 3D weights; its sums over k,
+// then j, then i of the 1D weights, G2pParticle::sum_by_direction). Before shape.hpp
+// avoided it, GCC fused products into FMAs differently in the vectorised g2p: half the
+// particles differed in the last bit.
 template <class Shape>
 void weights_agree_test() {
   const Patch patch = whole_patch({16, 16, 16}, {0.1, 0.2, 0.05});
@@ -335,6 +338,18 @@ void weights_agree_test() {
             sum += S;
             p2g_same = p2g_same && mass(0, wt.first[0] + a, wt.first[1] + b, wt.first[2] + c) == 1e-200 + S;
           }
+      if (Shape::nodes == 3) {
+        sum = 0;
+        for (int a = 0; a < Shape::nodes; ++a) {
+          double over_jk = 0;
+          for (int b = 0; b < Shape::nodes; ++b) {
+            double over_k = 0;
+            for (int c = 0; c < Shape::nodes; ++c) over_k += wt.w[2][c] * 1.0;
+            over_jk += wt.w[1][b] * over_k;
+          }
+          sum += wt.w[0][a] * over_jk;
+        }
+      }
       mismatched_p2g += p2g_same ? 0 : 1;
       mismatched_g2p += after(p, column(ParticleField::vx)) == sum ? 0 : 1;
     }
@@ -443,27 +458,31 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
 
 #if !defined(MPMICE_DEVICE_BACKEND)
 // A body for reduce_over_particle_groups that reports how particle p reads its nodes:
-// 1 through ReadTwoWindows with both windows the same (`distinct` false) or different
-// (`distinct` true), else 0. Its `first` is g2p's own (G2pParticle::first).
+// 1 if through ReadWindows over `windows` distinct places (1, 2 or 3), else 0. Its
+// `first` is g2p's own (G2pParticle::first).
 template <class Shape>
-struct TwoWindowReads {
+struct WindowReads {
   detail::G2pParticle<Shape, true, true> g2p_body;
-  bool distinct;
+  int windows;
   long first(long p) const { return g2p_body.first(p); }
   double operator()(long, const ReadOwnNodes&) const { return 0.0; }
-  double operator()(long, const ReadTwoWindows& read) const {
-    return (read.first_lo != read.first_hi) == distinct ? 1.0 : 0.0;
+  double operator()(long, const ReadWindows<2>& read) const {
+    return (read.first[0] != read.first[1] ? 2 : 1) == windows ? 1.0 : 0.0;
+  }
+  double operator()(long, const ReadWindows<3>& read) const {
+    const bool distinct = read.first[0] != read.first[2];  // the middle one differs from both
+    return (distinct ? 3 : 2) == windows ? 1.0 : 0.0;
   }
 };
 #endif
 
 // g2p reads the node values of a group of 8 consecutive particles once for the group
-// when their windows of nodes are one of two (reduce_over_particle_groups,
-// ReadTwoWindows), else particle by particle (ReadOwnNodes). Either way every particle
+// when their windows of nodes are one of two or three (reduce_over_particle_groups,
+// ReadWindows), else particle by particle (ReadOwnNodes). Either way every particle
 // must get the same values, bit for bit, as reading particle by particle throughout:
-// groups in one, two and more windows (runs of many, one and no particles, an unsorted
-// tail), nodes of zero weight (GIMP's far nodes; with the linear shape a particle on a
-// node plane, whose nodes above it have a weight of exactly 0: ReadTwoWindows reads
+// groups in one, two, three and more windows (runs of many, one and no particles, an
+// unsorted tail), nodes of zero weight (GIMP's far nodes; with the linear shape a particle on a
+// node plane, whose nodes above it have a weight of exactly 0: ReadWindows reads
 // them, ReadOwnNodes reads the particle's middle node instead), and a group deep in the
 // ghost cells whose windows leave the node arrays below i and above j (GIMP: they must
 // read their own), with
@@ -531,22 +550,34 @@ void expect_groups_read_as_one_particle_at_a_time() {
   const double dt = 1e-3;  // |L| dt < 1: no particle needs sub-steps (which only g2p does)
   const auto before = Kokkos::create_mirror(grouped.data());  // a copy: g2p moves the particles
   Kokkos::deep_copy(before, grouped.data());
-  g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
-  const double substepped = detail::g2p_deforming<Shape, true, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc,
-                                                                     temp_rate, transfer, /*in_groups=*/false);
-  ASSERT_EQ(substepped, 0.0);
-
-  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
-  auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), each.data());
-  long differing = 0;
-  for (long p = 0; p < n; ++p)
-    for (int c = 0; c < particle_field_count; ++c) differing += std::memcmp(&a(p, c), &b(p, c), sizeof(double)) != 0;
-  EXPECT_EQ(differing, 0) << "of " << n * particle_field_count << " entries";
+  // g2p as MPMICE runs it (the heat and the transfers' terms), then as MPM alone runs it
+  // (GIMP's sums are then taken direction by direction: G2pParticle::sum_by_direction).
+  for (const bool transfers : {true, false}) {
+    Kokkos::deep_copy(grouped.data(), before);
+    Kokkos::deep_copy(each.data(), before);
+    double substepped;
+    if (transfers) {
+      g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
+      substepped = detail::g2p_deforming<Shape, true, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate,
+                                                            transfer, /*in_groups=*/false);
+    } else {
+      g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc);
+      substepped = detail::g2p_deforming<Shape, false, false>(grid, n, each.data(), 0, dt, 0.25, vel, acc, Field4(),
+                                                              TransferHeat(), /*in_groups=*/false);
+    }
+    ASSERT_EQ(substepped, 0.0);
+    auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
+    auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), each.data());
+    long differing = 0;
+    for (long p = 0; p < n; ++p)
+      for (int c = 0; c < particle_field_count; ++c) differing += std::memcmp(&a(p, c), &b(p, c), sizeof(double)) != 0;
+    EXPECT_EQ(differing, 0) << "of " << n * particle_field_count << " entries, transfers " << transfers;
+  }
 
   // Both reads were taken: groups of 8 (as reduce_over_particle_groups forms them, from
   // the start of each run of detail::particle_run particles) in one window, in two, in
-  // more, and with a window outside the node arrays (windows from the positions before
-  // g2p).
+  // three (the first and the last particle's and one more), in more, and with a window
+  // outside the node arrays (windows from the positions before g2p).
   const Kokkos::Array<long, 3> extent = {long(vel[0].extent(1)), long(vel[0].extent(2)), long(vel[0].extent(3))};
   const auto window_of = [&](long p) {
     double x[3], half[3];
@@ -560,32 +591,43 @@ void expect_groups_read_as_one_particle_at_a_time() {
       if (w[d] < 0 || w[d] + Shape::nodes - 1 >= extent[d]) return false;
     return true;
   };
-  long in_one = 0, in_two = 0, in_more = 0, outside = 0;
+  long in_one = 0, in_two = 0, in_three = 0, in_more = 0, outside = 0;
   for (long run = 0; run < n; run += detail::particle_run)
     for (long g = run; g + detail::particle_group <= std::min(n, run + detail::particle_run);
          g += detail::particle_group) {
       const long last = g + detail::particle_group - 1;
-      bool two = true, all_inside = true;
+      // The windows of the first and the last particle, and of the others.
+      const std::set<std::array<long, 3>> ends = {window_of(g), window_of(last)};
+      std::set<std::array<long, 3>> others;
+      bool all_inside = true;
       for (long p = g; p <= last; ++p) {
-        two = two && (window_of(p) == window_of(g) || window_of(p) == window_of(last));
+        if (ends.count(window_of(p)) == 0) others.insert(window_of(p));
         all_inside = all_inside && inside(p);
       }
-      (!all_inside ? outside : !two ? in_more : window_of(g) == window_of(last) ? in_one : in_two) += 1;
+      const std::size_t windows = ends.size() + others.size();
+      long& kind = !all_inside       ? outside
+                   : others.size() > 1 ? in_more
+                   : windows == 1      ? in_one
+                   : windows == 2      ? in_two
+                                       : in_three;
+      ++kind;
     }
   EXPECT_GT(in_one, 5);
   EXPECT_GT(in_two, 5) << in_one << " in one window, " << in_more << " in more";
+  EXPECT_GT(in_three, 5);
   EXPECT_GT(in_more, 5);
   EXPECT_EQ(outside, gimp ? 2 : 0);  // the first two groups
 #if !defined(MPMICE_DEVICE_BACKEND)
-  // ... and reduce_over_particle_groups chose those: it gives ReadTwoWindows to the
-  // particles of exactly the groups in one or two windows, all inside.
+  // ... and reduce_over_particle_groups chose those: it gives ReadWindows to the
+  // particles of exactly the groups in one, two or three windows, all inside.
   const ParticleData input = before;
   const detail::G2pParticle<Shape, true, true> g2p_body(grid, input, 0, dt, 0.25, vel, acc, temp_rate, transfer);
-  const auto reads = [&](bool distinct) {
-    return reduce_over_particle_groups<Reduction::sum>("reads", n, TwoWindowReads<Shape>{g2p_body, distinct});
+  const auto reads = [&](int windows) {
+    return reduce_over_particle_groups<Reduction::sum>("reads", n, WindowReads<Shape>{g2p_body, windows});
   };
-  EXPECT_EQ(reads(false), double(detail::particle_group * in_one));
-  EXPECT_EQ(reads(true), double(detail::particle_group * in_two));
+  EXPECT_EQ(reads(1), double(detail::particle_group * in_one));
+  EXPECT_EQ(reads(2), double(detail::particle_group * in_two));
+  EXPECT_EQ(reads(3), double(detail::particle_group * in_three));
 #endif
 }
 

@@ -81,15 +81,18 @@ struct G2pParticle {
     return window_place(nodes, particle_weights<Shape>(grid, data, p).first, node_extent);
   }
 
-  template <class Read>
-  KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {
-    constexpr int n = Shape::nodes;
-    double x[3], half[3];
-    particle_position(data, p, x, half);
-    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-    const long first = nodes.at(wt.first), middle = nodes.middle(first);
-    double vs[3] = {0, 0, 0}, as[3] = {0, 0, 0}, ts = 0, qs = 0, a2s = 0;
+  /// A particle's weighted sums of node values: sum S v*_i, sum S a_i, sum S aT_i,
+  /// sum S q_i, sum S |a_i|^2 and L = sum v*_i (x) grad S_ip (E35, E36).
+  struct NodeSums {
+    double v[3] = {0, 0, 0}, a[3] = {0, 0, 0}, t = 0, q = 0, a2 = 0;
     Mat3 L = Mat3::zero();
+  };
+
+  /// The sums node by node: each node's weight and gradient, then its values.
+  template <class Read>
+  KOKKOS_FORCEINLINE_FUNCTION void sum_node_by_node(const ParticleWeights<Shape>& wt, long first, long middle,
+                                                    const Read& read, NodeSums& s) const {
+    constexpr int n = Shape::nodes;
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
@@ -98,23 +101,95 @@ struct G2pParticle {
           double g[3];
           wt.gradient(a, b, c, g);
           for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
-          if (Heat) ts += S * node(t_node);
-          if (Transfer) qs += S * node(q_node);
+          if (Heat) s.t += S * node(t_node);
+          if (Transfer) s.q += S * node(q_node);
           for (int d = 0; d < 3; ++d) {
             const double v = node(v_node[d]);
-            vs[d] += S * v;
+            s.v[d] += S * v;
             const double an = node(a_node[d]);
-            as[d] += S * an;
-            if (Transfer) a2s += S * an * an;
-            for (int e = 0; e < 3; ++e) L(d, e) += v * g[e];
+            s.a[d] += S * an;
+            if (Transfer) s.a2 += S * an * an;
+            for (int e = 0; e < 3; ++e) s.L(d, e) += v * g[e];
           }
         });
       });
     });
+  }
+
+  /// The same sums direction by direction: the weights are products w_i w_j w_k and
+  /// the gradients' factors dw_i w_j w_k, w_i dw_j w_k, w_i w_j dw_k, so the sums over k
+  /// (with w_k and dw_k), then over j, then over i take each node value into two
+  /// products instead of four, and no 3D weight is formed. A node of zero weight (GIMP)
+  /// has a zero w and dw along some direction, so its value (finite; ReadOwnNodes reads
+  /// the middle node's there) adds nothing. Not for the linear shape: for a particle on
+  /// a node plane, a node of zero weight has dw != 0 along it, and ReadOwnNodes does not
+  /// read that node. With GIMP's 27 nodes, 1.1-1.2x on 1 thread (docs/performance.md,
+  /// session 26); not with the transfers' terms either (MPMICE): with their sums too,
+  /// the coarse container's g2p ran 0.92x.
+  template <class Read>
+  KOKKOS_FORCEINLINE_FUNCTION void sum_by_direction(const ParticleWeights<Shape>& wt, long first, long middle,
+                                                    const Read& read, NodeSums& s) const {
+    constexpr int n = Shape::nodes;
+    unrolled_for<n>([&](int a) {
+      // Over j and k, for this i: w_j w_k, dw_j w_k and w_j dw_k of the velocity.
+      double v_ww[3] = {0, 0, 0}, v_dw[3] = {0, 0, 0}, v_wd[3] = {0, 0, 0}, a_ww[3] = {0, 0, 0};
+      double t_ww = 0, q_ww = 0, a2_ww = 0;
+      unrolled_for<n>([&](int b) {
+        double v_w[3] = {0, 0, 0}, v_d[3] = {0, 0, 0}, a_w[3] = {0, 0, 0}, t_w = 0, q_w = 0, a2_w = 0;
+        unrolled_for<n>([&](int c) {
+          const auto node = read.node(first, middle, nodes.step(a, b, c), wt.weight(a, b, c));
+          const double w = wt.w[2][c], dw = wt.dw[2][c];
+          if (Heat) t_w += w * node(t_node);
+          if (Transfer) q_w += w * node(q_node);
+          for (int d = 0; d < 3; ++d) {
+            const double v = node(v_node[d]), an = node(a_node[d]);
+            v_w[d] += w * v;
+            v_d[d] += dw * v;
+            a_w[d] += w * an;
+            if (Transfer) a2_w += w * an * an;
+          }
+        });
+        const double w = wt.w[1][b], dw = wt.dw[1][b];
+        t_ww += w * t_w;
+        q_ww += w * q_w;
+        a2_ww += w * a2_w;
+        for (int d = 0; d < 3; ++d) {
+          v_ww[d] += w * v_w[d];
+          v_dw[d] += dw * v_w[d];
+          v_wd[d] += w * v_d[d];
+          a_ww[d] += w * a_w[d];
+        }
+      });
+      const double w = wt.w[0][a], dw = wt.dw[0][a];
+      s.t += w * t_ww;
+      s.q += w * q_ww;
+      s.a2 += w * a2_ww;
+      for (int d = 0; d < 3; ++d) {
+        s.v[d] += w * v_ww[d];
+        s.a[d] += w * a_ww[d];
+        s.L(d, 0) += dw * v_ww[d];
+        s.L(d, 1) += w * v_dw[d];
+        s.L(d, 2) += w * v_wd[d];
+      }
+    });
+  }
+
+  template <class Read>
+  KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const long first = nodes.at(wt.first), middle = nodes.middle(first);
+    NodeSums s;
+    if constexpr (Shape::nodes == 3 && !Transfer) {  // where it is faster (sum_by_direction)
+      sum_by_direction(wt, first, middle, read, s);
+    } else {
+      sum_node_by_node(wt, first, middle, read, s);
+    }
     for (int d = 0; d < 3; ++d) {
       double& v = data(p, column(ParticleField::vx) + d);
-      v = (1.0 - pic_fraction) * (v + dt * as[d]) + pic_fraction * vs[d];
-      data(p, column(ParticleField::x) + d) = x[d] + dt * vs[d];
+      v = (1.0 - pic_fraction) * (v + dt * s.a[d]) + pic_fraction * s.v[d];
+      data(p, column(ParticleField::x) + d) = x[d] + dt * s.v[d];
     }
     double& T = data(p, column(ParticleField::temperature));
     if (Transfer) {
@@ -124,20 +199,20 @@ struct G2pParticle {
       // equilibration hands the volume over at fixed temperature). With the nodes' rate,
       // at most half of c_v T leaves in one step: a trace particle on nodes where the
       // internal force and the exchange nearly cancel can owe more than it holds.
-      const double increment2 = dt * dt * (as[0] * as[0] + as[1] * as[1] + as[2] * as[2]);
-      const double owed = qs + dt * dt * a2s - 0.5 * increment2;
+      const double increment2 = dt * dt * (s.a[0] * s.a[0] + s.a[1] * s.a[1] + s.a[2] * s.a[2]);
+      const double owed = s.q + dt * dt * s.a2 - 0.5 * increment2;
       const double iso = data(p, column(ParticleField::gas_pressure)) - data(p, column(ParticleField::bulk_viscosity));
-      const double gauge_work = data(p, column(ParticleField::volume)) * iso * L.trace() * dt;
-      double dT = dt * ts + (owed + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
+      const double gauge_work = data(p, column(ParticleField::volume)) * iso * s.L.trace() * dt;
+      double dT = dt * s.t + (owed + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
       T += dT < -0.5 * T ? -0.5 * T : dT;
     } else {
-      T += dt * ts;
+      T += dt * s.t;
     }
-    store_tensor(data, p, ParticleField::L00, L);
+    store_tensor(data, p, ParticleField::L00, s.L);
     // One sub-step, F_new = (I + dt L) F, here; more are left to g2p_substeps.
-    const bool one_step = one_deformation_step(L, dt);
+    const bool one_step = one_deformation_step(s.L, dt);
     const Mat3 F = load_tensor(data, p, ParticleField::F00);
-    const Mat3 F_new = (Mat3::identity() + dt * L) * F;
+    const Mat3 F_new = (Mat3::identity() + dt * s.L) * F;
     double& volume = data(p, column(ParticleField::volume));
     volume = one_step ? volume * (F_new.det() / F.det()) : volume;
     store_tensor(data, p, ParticleField::F00, one_step ? F_new : F);
@@ -146,10 +221,10 @@ struct G2pParticle {
 };
 
 /// (E35, E36) for the particles of a material that deforms (G2pParticle). With
-/// `in_groups`, a group of 8 particles whose windows of nodes are its first or its last
-/// particle's reads their node values once for the group instead of gathering them
-/// particle by particle (reduce_over_particle_groups; docs/performance.md, sessions 19
-/// and 20); `in_groups` false reads them particle by particle (the tests compare the two).
+/// `in_groups`, a group of 8 particles in at most three windows of nodes reads their
+/// node values once for the group instead of gathering them particle by particle
+/// (reduce_over_particle_groups; docs/performance.md, sessions 19, 20 and 26);
+/// `in_groups` false reads them particle by particle (the tests compare the two).
 /// Returns 1 if a particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
@@ -185,7 +260,7 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
 /// The loop over particles vectorises (loops.hpp): the nodes are written out, a node of
 /// zero weight adds nothing (ReadOwnNodes, node_reads.hpp), and a particle whose
 /// deformation needs more than one sub-step (|L| dt >= 1, rare) is finished by a second,
-/// scalar pass. Groups of particles in at most two windows of nodes (particles sorted by
+/// scalar pass. Groups of particles in at most three windows of nodes (particles sorted by
 /// window, particle_sort.hpp) read their node values once per group
 /// (reduce_over_particle_groups).
 template <class Shape>

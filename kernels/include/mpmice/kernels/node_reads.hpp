@@ -3,9 +3,11 @@
 /// \brief How a particle loop that reads node values (g2p) reads them: each particle
 ///        its own nodes (`ReadOwnNodes`; across a vector of particles, one gather per
 ///        node and field), or, for a group of particles whose windows of nodes are one
-///        of two (`ReadTwoWindows`; the particles of a set sorted by window,
-///        particle_sort.hpp), both windows' values, the same for every particle, and a
-///        select. `reduce_over_particle_groups` chooses between them group by group.
+///        of two or three (`ReadWindows`; the particles of a set sorted by window,
+///        particle_sort.hpp), every window's values, the same for every particle, and
+///        selects. `reduce_over_particle_groups` chooses between them group by group.
+#include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -32,7 +34,7 @@ struct ReadOwnNodes {
 
 /// The place of a window's first node for `reduce_over_particle_groups`'s
 /// `body.first(p)`: `nodes.at(first)` when the window's Nodes^3 nodes from `first` all lie
-/// in node arrays of extents `extent` (i, j, k), else -1. ReadTwoWindows reads every
+/// in node arrays of extents `extent` (i, j, k), else -1. ReadWindows reads every
 /// node of a window, also those of zero weight, which ReadOwnNodes does not: for GIMP
 /// they can lie past the node arrays (a particle deep in the ghost cells), and a group
 /// with such a particle then reads particle by particle. Checked for GIMP only: the
@@ -52,36 +54,44 @@ KOKKOS_INLINE_FUNCTION long window_place(const NodeStencil<Nodes>& nodes, const 
 }
 
 #if !defined(MPMICE_DEVICE_BACKEND)
-/// Every particle of the group has its window's first node at `first_lo` or at
-/// `first_hi`, and reads node (first + step) of it: both values are loaded, the same for
-/// the whole group (in a vector loop two broadcasts, hoisted out of it, instead of a
-/// gather), and selected. A node of zero weight (GIMP's far nodes; with the linear
-/// shape, a particle on a node plane) is read where ReadOwnNodes reads the particle's
-/// middle node, and, its value finite, adds nothing either way (with an infinite or NaN
-/// value there the particle would get NaN). Both windows must lie in the node arrays
-/// (window_place: checked for GIMP, true for a linear particle in the patch or its
-/// ghost cells). Host only (reduce_over_particle_groups).
-struct ReadTwoWindows {
-  long first_lo, first_hi;
+/// Every particle of the group has its window's first node at one of `Windows` places,
+/// `first[0..Windows)`, and reads node (first + step) of it: each window's value is
+/// loaded, the same for the whole group (in a vector loop a broadcast, hoisted out of
+/// it, instead of a gather), and the particle's is selected. A node of zero weight
+/// (GIMP's far nodes; with the linear shape, a particle on a node plane) is read where
+/// ReadOwnNodes reads the particle's middle node, and, its value finite, adds nothing
+/// either way (with an infinite or NaN value there the particle would get NaN). Every
+/// window must lie in the node arrays (window_place: checked for GIMP, true for a linear
+/// particle in the patch or its ghost cells). Host only (reduce_over_particle_groups).
+template <int Windows>
+struct ReadWindows {
+  Kokkos::Array<long, Windows> first;
   struct Node {
-    long at_lo, at_hi;
-    std::uint64_t lower;  ///< all bits set for a particle whose first node is first_lo, else 0
+    Kokkos::Array<long, Windows> at;
+    /// is[w] has all bits set for a particle whose first node is first[w], else 0; a
+    /// particle in none of the others is in the last.
+    Kokkos::Array<std::uint64_t, Windows - 1> is;
     KOKKOS_FORCEINLINE_FUNCTION double operator()(const ConstNodeArray& field) const {
-      // The select on the values' bits: written as `?:`, GCC 12 moved the two loads
-      // into its arms, as masked loads of one place for the whole vector, which it
-      // cannot vectorise.
-      const double a = field(at_lo), b = field(at_hi);
-      std::uint64_t bits_a, bits_b;
-      std::memcpy(&bits_a, &a, sizeof a);
-      std::memcpy(&bits_b, &b, sizeof b);
-      const std::uint64_t bits = (bits_a & lower) | (bits_b & ~lower);
+      // The selects on the values' bits: written as `?:`, GCC 12 moved the loads into
+      // its arms, as masked loads of one place for the whole vector, which it cannot
+      // vectorise.
+      std::uint64_t bits = as_bits(field(at[Windows - 1]));
+      for (int w = Windows - 2; w >= 0; --w) bits = (as_bits(field(at[w])) & is[w]) | (bits & ~is[w]);
       double value;
       std::memcpy(&value, &bits, sizeof value);
       return value;
     }
+    KOKKOS_FORCEINLINE_FUNCTION static std::uint64_t as_bits(double x) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof x);
+      return bits;
+    }
   };
-  KOKKOS_FORCEINLINE_FUNCTION Node node(long first, long /*middle*/, long step, double /*S*/) const {
-    return {first_lo + step, first_hi + step, std::uint64_t(0) - std::uint64_t(first == first_lo)};
+  KOKKOS_FORCEINLINE_FUNCTION Node node(long particle_first, long /*middle*/, long step, double /*S*/) const {
+    Node n;
+    for (int w = 0; w < Windows; ++w) n.at[w] = first[w] + step;
+    for (int w = 0; w < Windows - 1; ++w) n.is[w] = std::uint64_t(0) - std::uint64_t(particle_first == first[w]);
+    return n;
   }
 };
 
@@ -92,9 +102,10 @@ constexpr long particle_group = 8;
 static_assert(particle_run % particle_group == 0, "runs of whole groups");
 
 /// One run [lo, hi) of `reduce_over_particle_groups`, flattened (loops.hpp). A group
-/// reads both windows when every particle's first node is the first or the last
-/// particle's (the others counted in a double, as loops.hpp's reductions count) and
-/// both lie in the node arrays; the run's last, partial group reads its own nodes.
+/// whose particles' first nodes are at most three places, all in the node arrays, reads
+/// each window once (ReadWindows): two when every first node is its first or its last
+/// particle's, three when the others (sorted by window, the particles between) share
+/// one. Other groups, and the run's last, partial group, read their own nodes.
 template <Reduction R, class Body>
 MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, long hi) {
   const Body body = particle_body;  // its own copy, as simd_run_reduce
@@ -103,20 +114,31 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
   long g = lo;
   for (; g + particle_group <= hi; g += particle_group) {
     const long first_lo = body.first(g), first_hi = body.first(g + particle_group - 1);
-    double elsewhere = 0;
+    // The least and the largest place of the others, the particles in neither window.
+    long others_min = LONG_MAX, others_max = LONG_MIN;
 #if defined(MPMICE_HOST_SIMD)
-#pragma omp simd reduction(+ : elsewhere)
+#pragma omp simd reduction(min : others_min) reduction(max : others_max)
 #endif
     for (long l = 0; l < particle_group; ++l) {
       const long first = body.first(g + l);
-      elsewhere += first != first_lo && first != first_hi ? 1.0 : 0.0;
+      const bool other = first != first_lo && first != first_hi;
+      others_min = std::min(others_min, other ? first : LONG_MAX);
+      others_max = std::max(others_max, other ? first : LONG_MIN);
     }
-    // The group as one vector loop of known length, particle_group: no remainder.
-    const ReadTwoWindows two{first_lo, first_hi};
-    const auto two_windows = [&](long p) { return body(p, two); };
-    const bool in_two = elsewhere == 0.0 && first_lo >= 0 && first_hi >= 0;
-    combine<R>(acc, in_two ? simd_run_reduce<R>(two_windows, g, g + particle_group)
-                           : simd_run_reduce<R>(own, g, g + particle_group));
+    const bool two = others_min == LONG_MAX, three = others_min == others_max;
+    const bool inside = first_lo >= 0 && first_hi >= 0 && (two || others_min >= 0);
+    // Each group as one vector loop of known length, particle_group: no remainder.
+    double value;
+    if (!(two || three) || !inside) {
+      value = simd_run_reduce<R>(own, g, g + particle_group);
+    } else if (two) {
+      const ReadWindows<2> in_two{{first_lo, first_hi}};
+      value = simd_run_reduce<R>([&](long p) { return body(p, in_two); }, g, g + particle_group);
+    } else {
+      const ReadWindows<3> in_three{{first_lo, others_min, first_hi}};
+      value = simd_run_reduce<R>([&](long p) { return body(p, in_three); }, g, g + particle_group);
+    }
+    combine<R>(acc, value);
   }
   combine<R>(acc, simd_run_reduce<R>(own, g, hi));
   return acc;
@@ -125,11 +147,11 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
 #endif
 
 /// Like `reduce_over_particles`, for a body with `body(p, read)`, particle p's value,
-/// which reads its node values through `read` (ReadOwnNodes or ReadTwoWindows), and
+/// which reads its node values through `read` (ReadOwnNodes or ReadWindows), and
 /// `body.first(p)`, the place of particle p's first node as `window_place` gives it. On
 /// the host the particles go in groups of 8 consecutive ones: a group whose first nodes
-/// are all its first or its last particle's, inside the node arrays, reads
-/// ReadTwoWindows, else ReadOwnNodes. On a GPU every particle reads its own (each thread
+/// are at most three places, inside the node arrays, reads ReadWindows, else
+/// ReadOwnNodes. On a GPU every particle reads its own (each thread
 /// loads its values: no vector gather to save). The sum's order differs from
 /// reduce_over_particles's.
 template <Reduction R, class Body>
