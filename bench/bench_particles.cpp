@@ -8,6 +8,8 @@
 //                  bulk viscosity                                          -> 18 x 8 = 144
 //  g2p:            reads x (3), size (3), v (3), F (9), volume; writes v (3),
 //                  x (3), F (9), L (9), volume, T                          -> 44 x 8 = 352
+//  g2p_mpmice:     g2p as MPMICE runs it (the nodes' heat rate and the transfers'
+//                  terms, TransferHeat): + mass, gas pressure, bulk viscosity -> 47 x 8 = 376
 //  stress_update (neo-Hookean): reads F (9), v (3); writes stress (9)     -> 21 x 8 = 168
 //  stress_update (J2 plastic): + L (9), bbar_e (9 read, 9 write), eps_p (2) -> 50 x 8 = 400
 #include <benchmark/benchmark.h>
@@ -108,6 +110,23 @@ void BM_g2p(benchmark::State& state) {
   report(state, n, 352.0);
 }
 
+// g2p with the heat rate and the transfers' terms, as MPMICE's cycle calls it (the node
+// fields' values are the sums' zeros; dt = 0 as in BM_g2p).
+template <class Shape>
+void BM_g2p_mpmice(benchmark::State& state) {
+  const long n = state.range(0);
+  const Patch p = patch_for(n);
+  const NodeGrid grid = node_grid(p);
+  const ParticleSet& ps = sorted_particles_in<Shape>(p, n);
+  const NodeSums sums = node_sums(p);
+  const ConstVectorField4 vs{sums.mom[0], sums.mom[1], sums.mom[2]}, acc{sums.fext[0], sums.fext[1], sums.fext[2]};
+  const TransferHeat transfer{sums.volume, 1000.0};
+  for (auto _ : state)
+    state.SetIterationTime(
+        timed([&] { g2p<Shape>(grid, n, ps.data(), 0, 0.0, 0.0, false, {0, 0, 0}, vs, acc, sums.heat, transfer); }));
+  report(state, n, 376.0);
+}
+
 void BM_stress_update(benchmark::State& state) {
   const long n = state.range(0);
   const bool plastic = state.range(1) != 0;
@@ -138,6 +157,7 @@ const bool particle_benchmarks = [] {
     add("BM_p2g<GimpShape>", BM_p2g<GimpShape>);
     add("BM_internal_force<GimpShape>", BM_internal_force<GimpShape>);
     add("BM_g2p<GimpShape>", BM_g2p<GimpShape>);
+    add("BM_g2p_mpmice<GimpShape>", BM_g2p_mpmice<GimpShape>);  // MPMICE's problems use GIMP
   }
   return true;
 }();

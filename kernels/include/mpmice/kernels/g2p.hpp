@@ -83,7 +83,7 @@ struct G2pParticle {
 
   /// A particle's weighted sums of node values: sum S v*_i, sum S a_i, sum S aT_i,
   /// sum S q_i, sum S |a_i|^2 and L = sum v*_i (x) grad S_ip (E35, E36).
-  struct NodeSums {
+  struct GatheredSums {
     double v[3] = {0, 0, 0}, a[3] = {0, 0, 0}, t = 0, q = 0, a2 = 0;
     Mat3 L = Mat3::zero();
   };
@@ -91,7 +91,7 @@ struct G2pParticle {
   /// The sums node by node: each node's weight and gradient, then its values.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_node_by_node(const ParticleWeights<Shape>& wt, long first, long middle,
-                                                    const Read& read, NodeSums& s) const {
+                                                    const Read& read, GatheredSums& s) const {
     constexpr int n = Shape::nodes;
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
@@ -128,7 +128,7 @@ struct G2pParticle {
   /// the coarse container's g2p ran 0.92x.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_by_direction(const ParticleWeights<Shape>& wt, long first, long middle,
-                                                    const Read& read, NodeSums& s) const {
+                                                    const Read& read, GatheredSums& s) const {
     constexpr int n = Shape::nodes;
     unrolled_for<n>([&](int a) {
       // Over j and k, for this i: w_j w_k, dw_j w_k and w_j dw_k of the velocity.
@@ -180,7 +180,7 @@ struct G2pParticle {
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = nodes.at(wt.first), middle = nodes.middle(first);
-    NodeSums s;
+    GatheredSums s;
     if constexpr (Shape::nodes == 3 && !Transfer) {  // where it is faster (sum_by_direction)
       sum_by_direction(wt, first, middle, read, s);
     } else {
