@@ -96,7 +96,9 @@ void BM_internal_force(benchmark::State& state) {
   report(state, n, 144.0);
 }
 
-template <class Shape>
+// g2p; with `Mpmice`, with the heat rate and the transfers' terms as MPMICE's cycle
+// calls it (the node fields' values are the sums' zeros).
+template <class Shape, bool Mpmice>
 void BM_g2p(benchmark::State& state) {
   const long n = state.range(0);
   const Patch p = patch_for(n);
@@ -104,27 +106,13 @@ void BM_g2p(benchmark::State& state) {
   const ParticleSet& ps = sorted_particles_in<Shape>(p, n);
   const NodeSums sums = node_sums(p);
   const ConstVectorField4 vs{sums.mom[0], sums.mom[1], sums.mom[2]}, acc{sums.fext[0], sums.fext[1], sums.fext[2]};
+  const Field4 temp_rate = Mpmice ? sums.heat : Field4();  // empty: not given (g2p)
+  const TransferHeat transfer{Mpmice ? sums.volume : Field4(), 1000.0};
   // dt = 0: the particles stay in place, so every iteration does the same work.
   for (auto _ : state)
-    state.SetIterationTime(timed([&] { g2p<Shape>(grid, n, ps.data(), 0, 0.0, 0.0, false, {0, 0, 0}, vs, acc); }));
-  report(state, n, 352.0);
-}
-
-// g2p with the heat rate and the transfers' terms, as MPMICE's cycle calls it (the node
-// fields' values are the sums' zeros; dt = 0 as in BM_g2p).
-template <class Shape>
-void BM_g2p_mpmice(benchmark::State& state) {
-  const long n = state.range(0);
-  const Patch p = patch_for(n);
-  const NodeGrid grid = node_grid(p);
-  const ParticleSet& ps = sorted_particles_in<Shape>(p, n);
-  const NodeSums sums = node_sums(p);
-  const ConstVectorField4 vs{sums.mom[0], sums.mom[1], sums.mom[2]}, acc{sums.fext[0], sums.fext[1], sums.fext[2]};
-  const TransferHeat transfer{sums.volume, 1000.0};
-  for (auto _ : state)
     state.SetIterationTime(
-        timed([&] { g2p<Shape>(grid, n, ps.data(), 0, 0.0, 0.0, false, {0, 0, 0}, vs, acc, sums.heat, transfer); }));
-  report(state, n, 376.0);
+        timed([&] { g2p<Shape>(grid, n, ps.data(), 0, 0.0, 0.0, false, {0, 0, 0}, vs, acc, temp_rate, transfer); }));
+  report(state, n, Mpmice ? 376.0 : 352.0);
 }
 
 void BM_stress_update(benchmark::State& state) {
@@ -153,11 +141,11 @@ const bool particle_benchmarks = [] {
     };
     add("BM_p2g<LinearShape>", BM_p2g<LinearShape>);
     add("BM_internal_force<LinearShape>", BM_internal_force<LinearShape>);
-    add("BM_g2p<LinearShape>", BM_g2p<LinearShape>);
+    add("BM_g2p<LinearShape>", BM_g2p<LinearShape, false>);
     add("BM_p2g<GimpShape>", BM_p2g<GimpShape>);
     add("BM_internal_force<GimpShape>", BM_internal_force<GimpShape>);
-    add("BM_g2p<GimpShape>", BM_g2p<GimpShape>);
-    add("BM_g2p_mpmice<GimpShape>", BM_g2p_mpmice<GimpShape>);  // MPMICE's problems use GIMP
+    add("BM_g2p<GimpShape>", BM_g2p<GimpShape, false>);
+    add("BM_g2p_mpmice<GimpShape>", BM_g2p<GimpShape, true>);  // MPMICE's problems use GIMP
   }
   return true;
 }();
