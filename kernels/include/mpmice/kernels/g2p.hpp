@@ -125,34 +125,30 @@ struct G2pParticle {
   /// a node plane, a node of zero weight has dw != 0 along it, and ReadOwnNodes does not
   /// read that node. With GIMP's 27 nodes, 1.1-1.2x on 1 thread (docs/performance.md,
   /// session 26); not with the transfers' terms either (MPMICE): with their sums too,
-  /// the coarse container's g2p ran 0.92x.
+  /// the coarse container's g2p ran 0.92x, so this takes no q_i and |a_i|^2 sums.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_by_direction(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
+    static_assert(!Transfer, "the transfers' terms are summed node by node");
     constexpr int n = Shape::nodes;
     unrolled_for<n>([&](int a) {
       // Over j and k, for this i: w_j w_k, dw_j w_k and w_j dw_k of the velocity.
-      double v_ww[3] = {0, 0, 0}, v_dw[3] = {0, 0, 0}, v_wd[3] = {0, 0, 0}, a_ww[3] = {0, 0, 0};
-      double t_ww = 0, q_ww = 0, a2_ww = 0;
+      double v_ww[3] = {0, 0, 0}, v_dw[3] = {0, 0, 0}, v_wd[3] = {0, 0, 0}, a_ww[3] = {0, 0, 0}, t_ww = 0;
       unrolled_for<n>([&](int b) {
-        double v_w[3] = {0, 0, 0}, v_d[3] = {0, 0, 0}, a_w[3] = {0, 0, 0}, t_w = 0, q_w = 0, a2_w = 0;
+        double v_w[3] = {0, 0, 0}, v_d[3] = {0, 0, 0}, a_w[3] = {0, 0, 0}, t_w = 0;
         unrolled_for<n>([&](int c) {
           const auto node = read.node(first, middle, nodes.step(a, b, c), wt.weight(a, b, c));
           const double w = wt.w[2][c], dw = wt.dw[2][c];
           if (Heat) t_w += w * node(t_node);
-          if (Transfer) q_w += w * node(q_node);
           for (int d = 0; d < 3; ++d) {
-            const double v = node(v_node[d]), an = node(a_node[d]);
+            const double v = node(v_node[d]);
             v_w[d] += w * v;
             v_d[d] += dw * v;
-            a_w[d] += w * an;
-            if (Transfer) a2_w += w * an * an;
+            a_w[d] += w * node(a_node[d]);
           }
         });
         const double w = wt.w[1][b], dw = wt.dw[1][b];
         t_ww += w * t_w;
-        q_ww += w * q_w;
-        a2_ww += w * a2_w;
         for (int d = 0; d < 3; ++d) {
           v_ww[d] += w * v_w[d];
           v_dw[d] += dw * v_w[d];
@@ -162,8 +158,6 @@ struct G2pParticle {
       });
       const double w = wt.w[0][a], dw = wt.dw[0][a];
       s.t += w * t_ww;
-      s.q += w * q_ww;
-      s.a2 += w * a2_ww;
       for (int d = 0; d < 3; ++d) {
         s.v[d] += w * v_ww[d];
         s.a[d] += w * a_ww[d];
