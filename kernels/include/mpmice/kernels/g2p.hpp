@@ -88,19 +88,29 @@ struct G2pParticle {
     Mat3 L = Mat3::zero();
   };
 
-  /// The sums node by node: each node's weight and gradient, then its values.
+  /// The sums node by node: each node's weight and gradient, then its values. A GIMP
+  /// node of zero weight has a zero gradient too (its w and dw are 0 along some
+  /// direction) and is read where the particle's middle node is (ReadOwnNodes), so its
+  /// gradient is set to 0 here whatever the value read. A linear node of zero weight (a
+  /// particle exactly on a node plane) has a gradient of +-1/h along the plane's normal,
+  /// and L needs it: without it a uniform velocity v gave L = -v/h there. Its node is
+  /// in the particle's cell, so it is read and kept: `kept`, S + 1 for the linear shape,
+  /// is never 0 (`Transfer.LinearNodePlaneParticlesGetTheVelocityGradient`). Written as
+  /// the same select for both shapes: with no select for the linear shape, GCC 12
+  /// compiled its g2p 0.60-0.66x as fast (not analysed; docs/performance.md, session 27).
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_node_by_node(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
     constexpr int n = Shape::nodes;
+    constexpr bool gimp = n == 3;
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
-          const double S = wt.weight(a, b, c);
-          const auto node = read.node(first, middle, nodes.step(a, b, c), S);
+          const double S = wt.weight(a, b, c), kept = gimp ? S : S + 1.0;
+          const auto node = read.node(first, middle, nodes.step(a, b, c), kept);
           double g[3];
           wt.gradient(a, b, c, g);
-          for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
+          for (int e = 0; e < 3; ++e) g[e] = kept != 0.0 ? g[e] : 0.0;
           if (Heat) s.t += S * node(t_node);
           if (Transfer) s.q += S * node(q_node);
           for (int d = 0; d < 3; ++d) {
@@ -121,9 +131,8 @@ struct G2pParticle {
   /// (with w_k and dw_k), then over j, then over i take each node value into two
   /// products instead of four, and no 3D weight is formed. A node of zero weight (GIMP)
   /// has a zero w and dw along some direction, so its value (finite; ReadOwnNodes reads
-  /// the middle node's there) adds nothing. Not for the linear shape: for a particle on
-  /// a node plane, a node of zero weight has dw != 0 along it, and ReadOwnNodes does not
-  /// read that node. With GIMP's 27 nodes, 1.1-1.2x on 1 thread (docs/performance.md,
+  /// the middle node's there) adds nothing. Not for the linear shape: it ran 0.91-0.97x
+  /// the sums node by node (session 27). With GIMP's 27 nodes, 1.1-1.2x on 1 thread (docs/performance.md,
   /// session 26); not with the transfers' terms either (MPMICE): with their sums too,
   /// the coarse container's g2p ran 0.92x, so this takes no q_i and |a_i|^2 sums.
   template <class Read>

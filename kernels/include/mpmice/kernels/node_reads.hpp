@@ -18,7 +18,8 @@
 namespace mpmice {
 
 /// Each particle reads node (first + step) of its own, or its `middle` node where the
-/// node's weight S is zero: such a node adds nothing, and a particle loop without
+/// node's weight S is zero (for the linear shape's nodes, whose gradients it needs at
+/// any weight, g2p passes S + 1): such a node adds nothing, and a particle loop without
 /// branches then reads no node outside the particle's reach (GIMP's nodes of zero weight
 /// can lie past the patch's ghost nodes). Arithmetic, not a select: GCC turned the select
 /// into masked loads, which it could not vectorise here.
@@ -57,10 +58,11 @@ KOKKOS_INLINE_FUNCTION long window_place(const NodeStencil<Nodes>& nodes, const 
 /// Every particle of the group has its window's first node at one of `Windows` places,
 /// `first[0..Windows)`, and reads node (first + step) of it: each window's value is
 /// loaded, the same for the whole group (in a vector loop a broadcast, hoisted out of
-/// it, instead of a gather), and the particle's is selected. A node of zero weight
-/// (GIMP's far nodes; with the linear shape, a particle on a node plane) is read where
-/// ReadOwnNodes reads the particle's middle node, and, its value finite, adds nothing
-/// either way (with an infinite or NaN value there the particle would get NaN). Every
+/// it, instead of a gather), and the particle's is selected. A GIMP node of zero weight
+/// (its far nodes) is read where ReadOwnNodes reads the particle's middle node, and,
+/// its value finite, adds nothing either way (with an infinite or NaN value there the
+/// particle would get NaN); g2p reads the linear shape's nodes of zero weight (a
+/// particle on a node plane) both ways, for their gradients. Every
 /// window must lie in the node arrays (window_place: checked for GIMP, true for a linear
 /// particle in the patch or its ghost cells). Host only (reduce_over_particle_groups).
 template <int Windows>
