@@ -97,7 +97,7 @@ struct G2pParticle {
   /// in the particle's cell, so it is read and kept: `kept`, S + 1 for the linear shape,
   /// is never 0 (`Transfer.LinearNodePlaneParticlesGetTheVelocityGradient`). Written as
   /// the same select for both shapes: with no select for the linear shape, GCC 12
-  /// compiled its g2p 0.60-0.66x as fast (not analysed; docs/performance.md, session 27).
+  /// compiled its g2p 0.60-0.75x as fast (not analysed; docs/performance.md, session 27).
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_node_by_node(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
