@@ -250,7 +250,8 @@ void expect_node_plane_gradients() {
       const double* x = &x0[3 * p];
       for (int d = 0; d < 3; ++d) {
         const double v = A[d][0] * x[0] + A[d][1] * x[1] + A[d][2] * x[2] + 1.0;
-        ASSERT_NEAR(after(p, column(ParticleField::vx) + d), v, 1e-13) << "particle " << p << " in groups " << in_groups;
+        ASSERT_NEAR(after(p, column(ParticleField::vx) + d), v, 1e-13)
+            << "particle " << p << ", in groups " << in_groups;
         for (int e = 0; e < 3; ++e)
           ASSERT_NEAR(after(p, tensor_column(ParticleField::L00, d, e)), A[d][e], 1e-11)
               << "particle " << p << " at (" << x[0] << ", " << x[1] << ", " << x[2] << "), L(" << d << ", " << e

@@ -131,10 +131,11 @@ struct G2pParticle {
   /// (with w_k and dw_k), then over j, then over i take each node value into two
   /// products instead of four, and no 3D weight is formed. A node of zero weight (GIMP)
   /// has a zero w and dw along some direction, so its value (finite; ReadOwnNodes reads
-  /// the middle node's there) adds nothing. Not for the linear shape: it ran 0.91-0.97x
-  /// the sums node by node (session 27). With GIMP's 27 nodes, 1.1-1.2x on 1 thread (docs/performance.md,
-  /// session 26); not with the transfers' terms either (MPMICE): with their sums too,
-  /// the coarse container's g2p ran 0.92x, so this takes no q_i and |a_i|^2 sums.
+  /// the middle node's there) adds nothing. With GIMP's 27 nodes, 1.1-1.2x on 1 thread
+  /// (docs/performance.md, session 26). Not for the linear shape: 0.91-0.97x the sums
+  /// node by node (session 27). Not with the transfers' terms either (MPMICE): with
+  /// their sums too, the coarse container's g2p ran 0.92x, so this takes no q_i and
+  /// |a_i|^2 sums.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_by_direction(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
