@@ -6,12 +6,12 @@ Environment: THREADS (OMP_NUM_THREADS, default 1), MINT (--benchmark_min_time, 0
 
 Runs the benchmarks matching FILTER with each binary in turn, ROUNDS times, and prints
 each benchmark's best items/s per binary, the ratio of the last binary's best to the
-first's, and the median over the rounds of each round's ratio (last/first).
-Alternating the builds spreads the machine's slow stretches over all of them; the best
-of several rounds is the least disturbed. The median of the rounds' ratios is the
-steadier of the two: in session 27 two builds' best of 3 rounds gave 0.72-1.05x from
-one comparison to the next, while their median ratio over 8-12 rounds was 0.60-0.75x
-each time (and 0.96-1.01x for a binary against its copy). Each binary is copied to one path and run
+first's, and the median over the rounds of each round's ratio (last/first). Alternating
+the builds spreads the machine's slow stretches over all of them; the best of several
+rounds is the least disturbed. The median of the rounds' ratios is the steadier of the
+two: in session 27 two builds' best of 3 rounds gave 0.72-1.05x from one comparison to
+the next, while their median ratio over 8-12 rounds was 0.60-0.75x each time (and
+0.96-1.01x for a binary against its copy). Each binary is copied to one path and run
 from there, since the path alone moved a kernel's speed (docs/performance.md, session
 22); the path is new for every comparison, so compare ratios within one, not items/s
 between two."""
