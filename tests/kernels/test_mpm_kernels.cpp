@@ -194,76 +194,6 @@ void transfer_test() {
 TEST(Transfer, LinearConservesAndReproduces) { transfer_test<LinearShape>(); }
 TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
 
-// Particles exactly on node planes (the spacing a power of two, so their cell fraction
-// is exactly 0 along some directions): the nodes beyond such a plane have a weight of
-// 0 but, with the linear shape, a gradient of +-1/h along it, and L = sum v_i (x) grad
-// S_ip needs them (without them a uniform velocity v gave L = -v/h along the plane's
-// normal). With a linear velocity field v = A x + b on the nodes, every particle must
-// get v and L = A, read in groups (8 particles per cell, so groups take ReadWindows)
-// and particle by particle. Tolerances as transfer_test's (round-off of sums of 8 or 27
-// products of entries of order 1, and for L of velocities divided by h = 1/8).
-template <class Shape>
-void expect_node_plane_gradients() {
-  const Patch patch = whole_patch({8, 6, 5}, {0.125, 0.125, 0.125});
-  const Grid& g = patch.grid;
-  const NodeGrid grid = node_grid(patch);
-  const long cells = 400, n = 8 * cells;
-  ParticleSet ps("solid", n);
-  ps.resize(n);
-  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
-  VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
-  fill_linear_velocity(patch, grid, vs, 1.0);
-  const auto& A = velocity_gradient;
-  std::mt19937_64 rng(31);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<double> x0(3 * n);
-  for (bool in_groups : {true, false}) {
-    auto h = Kokkos::create_mirror_view(ps.data());
-    long on_plane = 0;
-    for (long c = 0; c < cells; ++c) {
-      int cell[3];
-      for (int d = 0; d < 3; ++d) cell[d] = 1 + int(u(rng) * (g.cells[d] - 2));
-      for (long p = 8 * c; p < 8 * c + 8; ++p) {
-        for (int k = 0; k < particle_field_count; ++k) h(p, k) = 0.0;
-        bool plane = false;
-        for (int d = 0; d < 3; ++d) {
-          const bool on = u(rng) < 0.5;  // on the cell's lower node plane, else inside
-          plane = plane || on;
-          x0[3 * p + d] = (cell[d] + (on ? 0.0 : u(rng))) * g.spacing[d];
-          h(p, column(ParticleField::x) + d) = x0[3 * p + d];
-          h(p, column(ParticleField::size_x) + d) = 0.5;
-          h(p, column(ParticleField::F00) + 4 * d) = 1.0;
-        }
-        on_plane += plane;
-        h(p, column(ParticleField::mass)) = 1.0;
-        h(p, column(ParticleField::volume)) = 1e-4;
-      }
-    }
-    ASSERT_GT(on_plane, n / 2);
-    Kokkos::deep_copy(ps.data(), h);
-    const double dt = 1e-3;
-    detail::g2p_deforming<Shape, false, false>(grid, n, ps.data(), 0, dt, 1.0, ConstVectorField4{vs[0], vs[1], vs[2]},
-                                               ConstVectorField4{acc[0], acc[1], acc[2]}, ConstField4(),
-                                               TransferHeat(), in_groups);
-    auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
-    for (long p = 0; p < n; ++p) {
-      const double* x = &x0[3 * p];
-      for (int d = 0; d < 3; ++d) {
-        const double v = A[d][0] * x[0] + A[d][1] * x[1] + A[d][2] * x[2] + 1.0;
-        ASSERT_NEAR(after(p, column(ParticleField::vx) + d), v, 1e-13)
-            << "particle " << p << ", in groups " << in_groups;
-        for (int e = 0; e < 3; ++e)
-          ASSERT_NEAR(after(p, tensor_column(ParticleField::L00, d, e)), A[d][e], 1e-11)
-              << "particle " << p << " at (" << x[0] << ", " << x[1] << ", " << x[2] << "), L(" << d << ", " << e
-              << "), in groups " << in_groups;
-      }
-    }
-  }
-}
-
-TEST(Transfer, LinearNodePlaneParticlesGetTheVelocityGradient) { expect_node_plane_gradients<LinearShape>(); }
-TEST(Transfer, GimpNodePlaneParticlesGetTheVelocityGradient) { expect_node_plane_gradients<GimpShape>(); }
-
 // (E36) over n sub-steps: the vector loop decides n = 1 (one_deformation_step) without
 // the integer count, so the two must agree at every |L| dt, the boundary 1 included.
 TEST(Deformation, OneStepTestAgreesWithTheSubstepCount) {
@@ -468,6 +398,67 @@ ParticleSet cell_run_particles(const Patch& patch, std::mt19937_64& rng, const M
   Kokkos::deep_copy(ps.data(), h);
   return ps;
 }
+
+// Particles exactly on node planes (the spacing a power of two, so their cell fraction
+// is exactly 0 along some directions): the nodes beyond such a plane have a weight of
+// 0 but, with the linear shape, a gradient of +-1/h along it, and L = sum v_i (x) grad
+// S_ip needs them (without them a uniform velocity v gave L = -v/h along the plane's
+// normal). With a linear velocity field v = A x + b on the nodes, every particle must
+// get v and L = A, read in groups (runs of particles by cell, so groups take
+// ReadWindows) and particle by particle. Tolerances as transfer_test's (round-off of
+// sums of 8 or 27 products of entries of order 1, and for L of velocities divided by
+// h = 1/8).
+template <class Shape>
+void expect_node_plane_gradients() {
+  const Patch patch = whole_patch({8, 6, 5}, {0.125, 0.125, 0.125});
+  const NodeGrid grid = node_grid(patch);
+  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
+  VectorField4 vs{node("vsx"), node("vsy"), node("vsz")}, acc{node("ax"), node("ay"), node("az")};
+  fill_linear_velocity(patch, grid, vs, 1.0);
+  const auto& A = velocity_gradient;
+  for (bool in_groups : {true, false}) {
+    std::mt19937_64 rng(31);  // the same particles both ways
+    long on_plane = 0;
+    const ParticleSet ps = cell_run_particles(patch, rng, [&](auto& h, long p, auto& u) {
+      bool plane = false;
+      for (int d = 0; d < 3; ++d) {
+        double& x = h(p, column(ParticleField::x) + d);
+        const bool on = u() < 0.5;  // onto its cell's lower node plane
+        x = on ? std::floor(x / 0.125) * 0.125 : x;
+        plane = plane || on;
+        h(p, column(ParticleField::size_x) + d) = 0.5;
+        h(p, column(ParticleField::F00) + 4 * d) = 1.0;
+      }
+      on_plane += plane;
+    });
+    const long n = long(ps.size());
+    ASSERT_GT(on_plane, n / 2);
+    // The positions before the update (a host mirror may alias the particle data).
+    auto before = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+    std::vector<double> x0(3 * n);
+    for (long p = 0; p < n; ++p)
+      for (int d = 0; d < 3; ++d) x0[3 * p + d] = before(p, column(ParticleField::x) + d);
+    detail::g2p_deforming<Shape, false, false>(grid, n, ps.data(), 0, 1e-3, 1.0, ConstVectorField4{vs[0], vs[1], vs[2]},
+                                               ConstVectorField4{acc[0], acc[1], acc[2]}, ConstField4(),
+                                               TransferHeat(), in_groups);
+    auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+    for (long p = 0; p < n; ++p) {
+      const double* x = &x0[3 * p];
+      for (int d = 0; d < 3; ++d) {
+        const double v = A[d][0] * x[0] + A[d][1] * x[1] + A[d][2] * x[2] + 1.0;
+        ASSERT_NEAR(after(p, column(ParticleField::vx) + d), v, 1e-13)
+            << "particle " << p << ", in groups " << in_groups;
+        for (int e = 0; e < 3; ++e)
+          ASSERT_NEAR(after(p, tensor_column(ParticleField::L00, d, e)), A[d][e], 1e-11)
+              << "particle " << p << " at (" << x[0] << ", " << x[1] << ", " << x[2] << "), L(" << d << ", " << e
+              << "), in groups " << in_groups;
+      }
+    }
+  }
+}
+
+TEST(Transfer, LinearNodePlaneParticlesGetTheVelocityGradient) { expect_node_plane_gradients<LinearShape>(); }
+TEST(Transfer, GimpNodePlaneParticlesGetTheVelocityGradient) { expect_node_plane_gradients<GimpShape>(); }
 
 // The number of entries where two fields differ (bit for bit; NaN never equal).
 long differing_entries(const ConstField4& a, const ConstField4& b) {
