@@ -1,11 +1,18 @@
-"""Table of kernel benchmark results: one run on 1 thread, one on 2 (JSON files of
-Google Benchmark). Bandwidth is relative to the STREAM triad of the same run.
+"""Table of kernel benchmark results, from the JSON files (Google Benchmark's) that
+ci/bench writes: per piece of the benchmarks (bench/pieces.py) and thread count t,
+pieceNN.threads<t>.json (the kernels) and pieceNN.triad<t>.json (the STREAM triad run
+right after them, repeated).
 
-Usage: report.py THREADS1.json THREADS2.json [TRIAD1.json TRIAD2.json]
-The optional files hold repeated triad runs of the same binary on 1 and 2 threads; the
-roof is the best triad of all runs on that many threads (one triad caught in a slow
-stretch of this machine made a whole table's percentages 1.5-2x too high)."""
+Usage: report.py DIR
+Each row's bandwidth is relative to the best 2-thread triad run next to it, just after
+its piece or just before (after the piece before), and its speedup compares its piece's
+two runs: measurements seconds apart, where one roof for a whole table, measured
+minutes before or after some of its rows, was skewed by this machine's slow stretches.
+Both neighbours, because in one run a triad right after a piece caught a dip alone
+(36 GB/s among 55-69) and made the piece's rows 1.5x too high."""
+import glob
 import json
+import os
 import sys
 
 
@@ -19,11 +26,11 @@ def load(path):
     return {b["name"]: b for b in iterations(path)}
 
 
-def roof(paths):
+def roof(path):
     """The memory roof: the best triad on the largest arrays (the small ones fit in
-    cache) among every run, repetitions included, in the JSON files `paths`."""
+    cache) in the JSON file `path`, repetitions included."""
     runs = [(int(b["name"].split("n:")[1].split("/")[0]), b["bytes_per_second"])
-            for path in paths for b in iterations(path) if "stream_triad" in b["name"]]
+            for b in iterations(path) if "stream_triad" in b["name"]]
     if not runs:
         return 0.0
     largest = max(n for n, _ in runs)
@@ -31,19 +38,27 @@ def roof(paths):
 
 
 def main():
-    if len(sys.argv) not in (3, 5):
+    if len(sys.argv) != 2:
         sys.exit(__doc__)
-    one, two = load(sys.argv[1]), load(sys.argv[2])
-    extra = sys.argv[3:]
-    triad1 = roof([sys.argv[1]] + extra[:1])
-    triad = roof([sys.argv[2]] + extra[1:])
-    print("STREAM triad (largest arrays): %.1f GB/s on 2 threads, %.1f GB/s on 1" % (triad / 1e9, triad1 / 1e9))
+    pieces = sorted(p[:-len(".threads2.json")] for p in glob.glob(os.path.join(sys.argv[1], "piece*.threads2.json")))
+    if not pieces:
+        sys.exit("report.py: no piece*.threads2.json in %s" % sys.argv[1])
+    after = {t: [roof(piece + ".triad%d.json" % t) for piece in pieces] for t in (1, 2)}
+    one, two, triad = {}, {}, {}  # by benchmark name; triad: the 2-thread roof of its row
+    for i, piece in enumerate(pieces):
+        kernels2 = load(piece + ".threads2.json")
+        one.update(load(piece + ".threads1.json"))
+        two.update(kernels2)
+        triad.update({name: max(after[2][max(i - 1, 0):i + 1]) for name in kernels2})
+    print("STREAM triad (largest arrays, best of 3 after each piece): %.1f-%.1f GB/s on 2 threads, "
+          "%.1f-%.1f GB/s on 1" % (min(after[2]) / 1e9, max(after[2]) / 1e9, min(after[1]) / 1e9,
+                                   max(after[1]) / 1e9))
     print()
     print("| kernel | size | items/s | GB/s | % of triad | 2-thread speedup |")
     print("|---|---|---:|---:|---:|---:|")
     # One kernel's sizes together, kernels in the order they first ran (the particle
     # benchmarks run count by count, sharing their particles).
-    names = [name for name in two if "stream_triad" not in name]
+    names = list(two)
     first = {}
     for i, name in enumerate(names):
         first.setdefault(name.partition("/")[0], i)
@@ -54,8 +69,8 @@ def main():
         gbs = b.get("bytes_per_second", 0.0) / 1e9
         items = b.get("items_per_second", 0.0)
         speedup = items / one[name]["items_per_second"] if name in one and one[name].get("items_per_second") else 0
-        print("| %s | %s | %.3g | %.2f | %.0f%% | %.2f |" % (kernel.replace("BM_", ""), size, items, gbs,
-                                                         100 * gbs * 1e9 / triad if triad else 0, speedup))
+        pct = 100 * gbs * 1e9 / triad[name] if triad[name] else 0
+        print("| %s | %s | %.3g | %.2f | %.0f%% | %.2f |" % (kernel.replace("BM_", ""), size, items, gbs, pct, speedup))
     print()
     mpm_substep(one)
 
