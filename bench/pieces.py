@@ -9,11 +9,10 @@ first '/'), except that the templated particle kernels of one particle count
 them count by count so that they share one sorted set of particles, which at 4e6
 particles takes seconds to make. The STREAM triad is left out: ci/bench runs it after
 every piece, which takes about 2 s (its arrays are 800 MB), so pieces of one kernel
-each (21) made ci/bench's runs 1.3 minutes longer.
+each (21) made ci/bench's benchmarks take 4.9 minutes, against 4.3 with these (13).
 
-ci/bench runs each piece on 1 thread, then on 2, each followed by the triad: a piece's
-speedup and its percentages of the triad then come from measurements seconds apart, not
-minutes (this machine's speed moves by 2-3x over minutes)."""
+ci/bench runs each piece on 1 thread, then on 2: a piece's speedups then come from two
+runs seconds apart, not minutes (this machine's speed moves by 2-3x over minutes)."""
 import re
 import sys
 
