@@ -1,6 +1,6 @@
-// The loop shapes of loops.hpp: for_each_index and reduce_over_index visit every index
-// of a box exactly once, whichever index their rows follow (Rows::along_k, or
-// Rows::longest, which runs a box thin along k along i or j).
+// The loop shapes of loops.hpp: for_each_index, for_each_index_light and
+// reduce_over_index visit every index of a box exactly once, whichever index their rows
+// follow (Rows::along_k, or Rows::longest, which runs a box thin along k along i or j).
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -26,22 +26,25 @@ std::vector<IndexBox> sample_boxes() {
           box_of(3, 12, 2, 3, 1, 8),   box_of(3, 3, 1, 10, 1, 2)};  // the last one empty
 }
 
-// How often each index of a 160 x 150 x 24 array was visited.
-template <Rows Choice>
+// How often each index of a 160 x 150 x 24 array was visited by for_each_index with
+// rows `Choice`, or with `Light` by for_each_index_light.
+template <Rows Choice, bool Light = false>
 Kokkos::View<int***>::HostMirror visits(const IndexBox& box) {
   Kokkos::View<int***> count("count", 160, 150, 24);
-  for_each_index<Choice>("test::visits", box, KOKKOS_LAMBDA(long i, long j, long k) {
-    Kokkos::atomic_add(&count(i, j, k), 1);
-  });
+  const auto visit = KOKKOS_LAMBDA(long i, long j, long k) { Kokkos::atomic_add(&count(i, j, k), 1); };
+  if constexpr (Light)
+    for_each_index_light("test::visits", box, visit);
+  else
+    for_each_index<Choice>("test::visits", box, visit);
   auto h = Kokkos::create_mirror_view(count);
   Kokkos::deep_copy(h, count);
   return h;
 }
 
-template <Rows Choice>
-void expect_each_index_once() {
-  for (const IndexBox& box : sample_boxes()) {
-    const auto h = visits<Choice>(box);
+template <Rows Choice, bool Light = false>
+void expect_each_index_once(std::vector<IndexBox> boxes = sample_boxes()) {
+  for (const IndexBox& box : boxes) {
+    const auto h = visits<Choice, Light>(box);
     long wrong = 0;
     for (int i = 0; i < 160; ++i)
       for (int j = 0; j < 150; ++j)
@@ -92,5 +95,13 @@ TEST(Loops, RowDirection) {
 
 TEST(Loops, EveryIndexOnceAlongK) { expect_each_index_once<Rows::along_k>(); }
 TEST(Loops, EveryIndexOnceAlongTheLongest) { expect_each_index_once<Rows::longest>(); }
+// The light loop: the sample boxes run on the calling thread (fewer indices than
+// detail::light_serial_indices), a large box as for_each_index.
+TEST(Loops, EveryIndexOnceInLightLoops) {
+  std::vector<IndexBox> boxes = sample_boxes();
+  boxes.push_back(box_of(2, 150, 1, 149, 1, 23));
+  EXPECT_GE(boxes.back().size(), detail::light_serial_indices);
+  expect_each_index_once<Rows::along_k, true>(boxes);
+}
 TEST(Loops, ReductionsAlongK) { expect_sum_and_max<Rows::along_k>(); }
 TEST(Loops, ReductionsAlongTheLongest) { expect_sum_and_max<Rows::longest>(); }

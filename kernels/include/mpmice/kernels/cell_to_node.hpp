@@ -8,9 +8,10 @@
 
 namespace mpmice {
 
-/// p_i = (1/8) sum of the 8 cells around node i (E11), on `nodes`.
+/// p_i = (1/8) sum of the 8 cells around node i (E11), on `nodes`. Little work per node:
+/// small boxes run on the calling thread (for_each_index_light).
 inline void pressure_to_nodes(const IndexBox& nodes, const ConstField3& press, const Field3& press_node) {
-  for_each_index("mpmice::pressure_to_nodes", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
+  for_each_index_light("mpmice::pressure_to_nodes", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
     double s = 0;
     unrolled_for<8>([&](int n) { s += press(i - corner(n, 0), j - corner(n, 1), k - corner(n, 2)); });
     press_node(i, j, k) = 0.125 * s;

@@ -254,6 +254,29 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 #endif
 }
 
+namespace detail {
+/// Boxes of fewer indices than this run on the calling thread in `for_each_index_light`:
+/// for a copy of so few values the threads' start and join cost more than the copy (the
+/// halo's slabs, halo.cpp, and a face exchange of one material, a copy of 4,352 values
+/// at 16^3 cells, 0.64-0.72x as fast on 2 threads as on 1; docs/performance.md).
+constexpr long light_serial_indices = 1L << 15;
+}  // namespace detail
+
+/// `for_each_index` (rows along k) for a body that moves a few values per index and
+/// computes little, such as a copy: on the host a box of fewer than
+/// `detail::light_serial_indices` indices runs its rows on the calling thread.
+template <class F>
+void for_each_index_light(const std::string& label, const IndexBox& box, const F& f) {
+#if !defined(MPMICE_DEVICE_BACKEND)
+  if (box.size() < detail::light_serial_indices) {
+    const detail::BoxRows rows(box, Rows::along_k);
+    for (long r = 0; r < rows.rows; ++r) detail::simd_row<2>(f, rows.lo(r), rows.hi(r), rows.a(r), rows.b(r));
+    return;
+  }
+#endif
+  for_each_index(label, box, f);
+}
+
 /// Like `for_each_index`, for a body f(i, j, k) that returns a double: returns the
 /// sum of the values, or the largest of them and 0 (e.g. a 0/1 failure flag). Within a
 /// row the sum's order depends only on the row's length (and, with `Rows::longest`, on
