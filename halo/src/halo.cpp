@@ -34,10 +34,12 @@ struct SlabRows {
   KOKKOS_INLINE_FUNCTION long at(long mi, long j, long k) const { return (mi * nj + j - lo_j) * nk + k - lo_k; }
 };
 
-// Slabs of fewer entries than this are copied by the calling thread alone: for them the
-// threads' start and join cost more than the copy (a fill of 16^3-64^3 cells ran
-// 0.44-0.82x as fast on 2 threads as on 1 when every slab was a parallel loop).
-constexpr long serial_slab_entries = 1L << 15;
+// Slabs of fewer entries than for_each_index_light's threshold are copied by the
+// calling thread alone: for them the threads' start and join cost more than the copy (a
+// fill of 16^3-64^3 cells ran 0.44-0.82x as fast on 2 threads as on 1 when every slab
+// was a parallel loop). The rows are plain inline loops here, not for_each_index_light's
+// row calls: a slab across k has rows of 2-3 entries.
+constexpr long serial_slab_entries = detail::light_serial_indices;
 
 // Runs f(mi, j, k) over the slab's rows (SlabRows). On the host: on the calling thread
 // for a slab under `serial_slab_entries`, else in parallel over mi or j, whichever is

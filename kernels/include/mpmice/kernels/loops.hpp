@@ -255,10 +255,10 @@ void for_each_index(const std::string& label, const IndexBox& box, const F& f) {
 }
 
 namespace detail {
-/// Boxes of fewer indices than this run on the calling thread in `for_each_index_light`:
-/// for a copy of so few values the threads' start and join cost more than the copy (the
-/// halo's slabs, halo.cpp, and a face exchange of one material, a copy of 4,352 values
-/// at 16^3 cells, 0.64-0.72x as fast on 2 threads as on 1; docs/performance.md).
+/// Boxes of fewer indices than this run on the calling thread in `for_each_index_light`
+/// (and the halo's slabs, halo.cpp): for a copy of so few values the threads' start and
+/// join cost more than the copy (a face exchange of one material, a copy of 4,352 values
+/// at 16^3 cells, ran 0.64-0.72x as fast on 2 threads as on 1; docs/performance.md).
 constexpr long light_serial_indices = 1L << 15;
 }  // namespace detail
 
