@@ -7,7 +7,6 @@
 ///        particle_sort.hpp), every window's values, the same for every particle, and
 ///        selects. `reduce_over_particle_groups` chooses between them group by group.
 #include <algorithm>
-#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -115,20 +114,29 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
   double acc = 0;
   long g = lo;
   for (; g + particle_group <= hi; g += particle_group) {
-    const long first_lo = body.first(g), first_hi = body.first(g + particle_group - 1);
-    // The least and the largest place of the others, the particles in neither window.
-    long others_min = LONG_MAX, others_max = LONG_MIN;
+    // The group's first nodes in one vector loop, then sorted into windows by a scalar
+    // pass over the 8 values. Not as one vector loop with `omp simd reduction(min : ...)
+    // reduction(max : ...)` over the others' places, as before session 29: on AVX2 (no
+    // 64-bit vector min or max) GCC 12 compiled it, inlined here, so that the least
+    // place came out as the largest, and a group of four places read three windows
+    // (`Transfer.GimpNodePlaneParticlesGetTheVelocityGradient`).
+    long first[particle_group];
 #if defined(MPMICE_HOST_SIMD)
-#pragma omp simd reduction(min : others_min) reduction(max : others_max)
+#pragma omp simd
 #endif
-    for (long l = 0; l < particle_group; ++l) {
-      const long first = body.first(g + l);
-      const bool other = first != first_lo && first != first_hi;
-      others_min = std::min(others_min, other ? first : LONG_MAX);
-      others_max = std::max(others_max, other ? first : LONG_MIN);
+    for (long l = 0; l < particle_group; ++l) first[l] = body.first(g + l);
+    const long first_lo = first[0], first_hi = first[particle_group - 1];
+    // `other`: the place of the particles in neither window, if they share one.
+    long other = first_lo;
+    bool two = true, three = true;
+    for (long l = 1; l < particle_group - 1; ++l) {
+      if (first[l] == first_lo || first[l] == first_hi) continue;
+      three = three && (two || first[l] == other);
+      other = first[l];
+      two = false;
     }
-    const bool two = others_min == LONG_MAX, three = others_min == others_max;
-    const bool inside = first_lo >= 0 && first_hi >= 0 && (two || others_min >= 0);
+    three = three && !two;
+    const bool inside = first_lo >= 0 && first_hi >= 0 && other >= 0;
     // Each group as one vector loop of known length, particle_group: no remainder.
     double value;
     if (!(two || three) || !inside) {
@@ -137,7 +145,7 @@ MPMICE_FLATTEN double grouped_run_reduce(const Body& particle_body, long lo, lon
       const ReadWindows<2> in_two{{first_lo, first_hi}};
       value = simd_run_reduce<R>([&](long p) { return body(p, in_two); }, g, g + particle_group);
     } else {
-      const ReadWindows<3> in_three{{first_lo, others_min, first_hi}};
+      const ReadWindows<3> in_three{{first_lo, other, first_hi}};
       value = simd_run_reduce<R>([&](long p) { return body(p, in_three); }, g, g + particle_group);
     }
     combine<R>(acc, value);
