@@ -117,12 +117,29 @@ TEST(Equilibration, TwoGasesShareOnePressure) {
   auto peq = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.press_eq);
   auto theta = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.vol_frac);
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.sp_vol);
+  auto c = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.speed_sound);
+  auto kappa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.kappa);
+  auto sum_kappa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.sum_kappa);
+  auto tmv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.tmv);
   const IndexBox own = p.owned_cells();
   for (int i = own.lo[0]; i < own.hi[0]; ++i) {
     const double P = peq(i, 1, 1);
     EXPECT_NEAR(theta(0, i, 1, 1) + theta(1, i, 1, 1), 1.0, 1e-13);
-    for (int r = 0; r < 2; ++r)
-      EXPECT_NEAR(eos_pressure(mats.eos[r], 1.0 / v(r, i, 1, 1), th(r, i, 1, 1)), P, 1e-12 * P);
+    double sk = 0, volume = 0;
+    for (int r = 0; r < 2; ++r) {
+      const double vr = v(r, i, 1, 1), T = th(r, i, 1, 1);
+      EXPECT_NEAR(eos_pressure(mats.eos[r], 1.0 / vr, T), P, 1e-12 * P);
+      // (E16) at the new state, each value from the EOS's own functions; a few roundings
+      // apart from the kernel's (1e-13 relative: 100 ulps).
+      const double c2 = eos_sound_speed_squared(mats.eos[r], 1.0 / vr, T);
+      EXPECT_NEAR(c(r, i, 1, 1), std::sqrt(c2), 1e-13 * std::sqrt(c2));
+      EXPECT_NEAR(kappa(r, i, 1, 1), vr / c2, 1e-13 * vr / c2);
+      EXPECT_NEAR(theta(r, i, 1, 1), rh(r, i, 1, 1) * g.cell_volume() * vr / tmv(i, 1, 1), 1e-13);
+      sk += theta(r, i, 1, 1) * vr / c2;
+      volume += rh(r, i, 1, 1) * g.cell_volume() * vr;
+    }
+    EXPECT_NEAR(sum_kappa(i, 1, 1), sk, 1e-13 * sk);
+    EXPECT_NEAR(tmv(i, 1, 1), volume, 1e-13 * volume);
     // The mixture lies between the two initial pressures.
     EXPECT_GT(P, 1e5 * std::min(1 + i - 1, 3) * 0.99);
   }

@@ -96,17 +96,74 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, con
   return false;
 }
 
+// One cell of ideal gases in closed form (E14-E16 with p_r = rhoM_r e_r, where
+// e_r = (gamma_r - 1) c_v,r T_r, E48). With m_r = rho_r V, (E14) gives
+// theta_r = m_r v_r^n / TMV^n and so rhoB_r = theta_r / v_r^n = m_r / TMV^n, and
+// sum_r rhoB_r / rhoM_r(p) = 1 has the root p = S / TMV^n, S = sum_r m_r e_r, at which
+//   v_r = e_r / p = e_r TMV^n / S,   theta_r = rhoB_r v_r = m_r e_r / S,
+//   c_r^2 = gamma_r e_r (E47),      kappa_r = v_r / c_r^2 = 1 / (gamma_r p).
+// Two divisions per cell (1/S and p) and a square root per material; taken through the
+// micro densities, as the general path does, the same values cost 8 divisions per
+// material (docs/performance.md, session 29). The Newton iteration would reach this root
+// to its tolerance (100 ulps). No branch: the loop over cells vectorises.
+template <int N>
+struct IdealGasesCell {
+  double cell_volume;
+  Kokkos::Array<double, N> e_per_kelvin, gamma, inv_gamma;  ///< (gamma_r - 1) c_v,r; gamma_r; 1/gamma_r
+  EquilibrationIn in;
+  EquilibrationOut out;
+
+  IdealGasesCell(const MaterialTable& mats, double cell_volume_, const EquilibrationIn& in_,
+                 const EquilibrationOut& out_)
+      : cell_volume(cell_volume_), in(in_), out(out_) {
+    for (int r = 0; r < N; ++r) {
+      e_per_kelvin[r] = (mats.eos[r].gamma - 1.0) * mats.eos[r].cv;
+      gamma[r] = mats.eos[r].gamma;
+      inv_gamma[r] = 1.0 / mats.eos[r].gamma;
+    }
+  }
+
+  /// Equilibrates cell (i, j, k); returns whether its state is sane, as the general
+  /// path judges it (rhoM_r = 1/v_r > 0 is v_r >= 0 here, an infinite rhoM_r included).
+  KOKKOS_INLINE_FUNCTION bool operator()(long i, long j, long k) const {
+    double mass[N], e[N];
+    double tmv = 0, S = 0;
+    unrolled_for<N>([&](int r) {
+      mass[r] = in.rho(r, i, j, k) * cell_volume;
+      e[r] = e_per_kelvin[r] * in.temp(r, i, j, k);
+      tmv += mass[r] * in.sp_vol(r, i, j, k);
+      S += mass[r] * e[r];
+    });
+    const double inv_S = 1.0 / S, press = S / tmv, inv_press = tmv * inv_S;
+    bool sane = (press > 0.0) & math::isfinite(press);
+    double sum_kappa = 0, tmv_eq = 0;
+    unrolled_for<N>([&](int r) {
+      const double theta = mass[r] * e[r] * inv_S, v = e[r] * inv_press, kappa = inv_press * inv_gamma[r];
+      sane = sane & (v >= 0.0) & (theta >= 0.0);
+      out.vol_frac(r, i, j, k) = theta;
+      out.sp_vol(r, i, j, k) = v;
+      out.speed_sound(r, i, j, k) = math::sqrt(gamma[r] * e[r]);
+      out.kappa(r, i, j, k) = kappa;
+      sum_kappa += theta * kappa;
+      tmv_eq += mass[r] * v;
+    });
+    out.press_eq(i, j, k) = press;
+    out.sum_kappa(i, j, k) = sum_kappa;
+    out.tmv(i, j, k) = tmv_eq;
+    return sane;
+  }
+};
+
 // equilibrate_pressure() for N materials; returns 1 + the linear index of a failing
-// cell, 0 if none. With only ideal gases (AllIdeal) sum theta_r(p) = 1 has the exact
-// root p = sum_r rhoB_r (gamma_r - 1) c_v,r T_r (theta_r = rhoB_r (gamma_r - 1) c_v,r T_r / p,
-// E48), which the Newton iteration would reach to its tolerance (100 ulps) after a
-// chain of dependent divisions; that path has no branch, so the loop over cells vectorises.
+// cell, 0 if none. With only ideal gases (AllIdeal), in closed form (IdealGasesCell).
 template <int N, bool AllIdeal>
 long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const MaterialTable& mats,
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const long nj = in.rho.extent(2), nk = in.rho.extent(3);
+  const IdealGasesCell<N> ideal_gases(mats, cell_volume, in, out);
   // One cell's equilibration; true if its state is sane.
   const auto equilibrate_cell = KOKKOS_LAMBDA(long i, long j, long k) {
+    if constexpr (AllIdeal) return ideal_gases(i, j, k);
     double temp[N], rho_bulk[N], rho_micro[N], theta[N];
     // (E14): start from last step's micro densities.
     double tmv = 0;
@@ -121,30 +178,17 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
       rho_bulk[r] = theta[r] * rho_micro[r];
     });
     double press = in.press(i, j, k);
-    bool ok = true;
-    if (AllIdeal) {
-      press = 0;
-      unrolled_for<N>([&](int r) {
-        press += rho_bulk[r] * (mats.eos[r].gamma - 1.0) * mats.eos[r].cv * temp[r];
-      });
-      unrolled_for<N>([&](int r) {
-        rho_micro[r] = ideal_gas_density(mats.eos[r], press, temp[r]);
-        theta[r] = rho_bulk[r] / rho_micro[r];
-      });
-    } else {
-      ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-      if (!ok) {
-        press = in.press(i, j, k);
-        ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-      }
+    bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+    if (!ok) {
+      press = in.press(i, j, k);
+      ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
     }
     bool sane = ok & (press > 0.0) & math::isfinite(press);
     // (E16)
     double sum_kappa = 0, tmv_eq = 0;
     unrolled_for<N>([&](int r) {
       sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
-      const double c2 = AllIdeal ? ideal_gas_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r])
-                                 : eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
+      const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
       const double v = 1.0 / rho_micro[r];
       const double kappa = v / c2;
       out.vol_frac(r, i, j, k) = theta[r];
