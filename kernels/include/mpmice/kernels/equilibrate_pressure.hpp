@@ -163,45 +163,48 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
   const IdealGasesCell<N> ideal_gases(mats, cell_volume, in, out);
   // One cell's equilibration; true if its state is sane.
   const auto equilibrate_cell = KOKKOS_LAMBDA(long i, long j, long k) {
-    if constexpr (AllIdeal) return ideal_gases(i, j, k);
-    double temp[N], rho_bulk[N], rho_micro[N], theta[N];
-    // (E14): start from last step's micro densities.
-    double tmv = 0;
-    unrolled_for<N>([&](int r) {
-      temp[r] = in.temp(r, i, j, k);
-      rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
-      theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
-      tmv += theta[r];
-    });
-    unrolled_for<N>([&](int r) {
-      theta[r] /= tmv;
-      rho_bulk[r] = theta[r] * rho_micro[r];
-    });
-    double press = in.press(i, j, k);
-    bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
-    if (!ok) {
-      press = in.press(i, j, k);
-      ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+    if constexpr (AllIdeal) {
+      return ideal_gases(i, j, k);
+    } else {
+      double temp[N], rho_bulk[N], rho_micro[N], theta[N];
+      // (E14): start from last step's micro densities.
+      double tmv = 0;
+      unrolled_for<N>([&](int r) {
+        temp[r] = in.temp(r, i, j, k);
+        rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
+        theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
+        tmv += theta[r];
+      });
+      unrolled_for<N>([&](int r) {
+        theta[r] /= tmv;
+        rho_bulk[r] = theta[r] * rho_micro[r];
+      });
+      double press = in.press(i, j, k);
+      bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+      if (!ok) {
+        press = in.press(i, j, k);
+        ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+      }
+      bool sane = ok & (press > 0.0) & math::isfinite(press);
+      // (E16)
+      double sum_kappa = 0, tmv_eq = 0;
+      unrolled_for<N>([&](int r) {
+        sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
+        const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
+        const double v = 1.0 / rho_micro[r];
+        const double kappa = v / c2;
+        out.vol_frac(r, i, j, k) = theta[r];
+        out.sp_vol(r, i, j, k) = v;
+        out.speed_sound(r, i, j, k) = math::sqrt(c2);
+        out.kappa(r, i, j, k) = kappa;
+        sum_kappa += theta[r] * kappa;
+        tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
+      });
+      out.press_eq(i, j, k) = press;
+      out.sum_kappa(i, j, k) = sum_kappa;
+      out.tmv(i, j, k) = tmv_eq;
+      return sane;
     }
-    bool sane = ok & (press > 0.0) & math::isfinite(press);
-    // (E16)
-    double sum_kappa = 0, tmv_eq = 0;
-    unrolled_for<N>([&](int r) {
-      sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
-      const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
-      const double v = 1.0 / rho_micro[r];
-      const double kappa = v / c2;
-      out.vol_frac(r, i, j, k) = theta[r];
-      out.sp_vol(r, i, j, k) = v;
-      out.speed_sound(r, i, j, k) = math::sqrt(c2);
-      out.kappa(r, i, j, k) = kappa;
-      sum_kappa += theta[r] * kappa;
-      tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
-    });
-    out.press_eq(i, j, k) = press;
-    out.sum_kappa(i, j, k) = sum_kappa;
-    out.tmv(i, j, k) = tmv_eq;
-    return sane;
   };
   // Whether any cell failed, as a vectorisable max of 0/1 (a cell index would need a
   // long -> double conversion that AVX2 lacks, and the loop would stay scalar).

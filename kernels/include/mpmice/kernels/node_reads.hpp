@@ -6,7 +6,6 @@
 ///        of two or three (`ReadWindows`; the particles of a set sorted by window,
 ///        particle_sort.hpp), every window's values, the same for every particle, and
 ///        selects. `reduce_over_particle_groups` chooses between them group by group.
-#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
