@@ -1,5 +1,6 @@
 // mpmice: the MPM-ICE mini-app. MPI and Kokkos live for the whole run; everything
 // else is in cli.cpp.
+#include <malloc.h>
 #include <mpi.h>
 
 #include <cstdlib>
@@ -11,6 +12,18 @@
 #include "cli.hpp"
 
 int main(int argc, char* argv[]) {
+#if defined(__GLIBC__)
+  // The fields from the heap, not each from a memory map of its own: glibc maps every
+  // allocation above 128 KiB at a page boundary, so the fields of a patch all start at
+  // the same place modulo 4 KiB, and a kernel that reads and writes many of them at one
+  // index touches addresses in the same L1 cache sets (8 ways), which the core's
+  // store-to-load checks also confuse (4 KiB aliasing): the likely cause of the
+  // slowdown measured. From the heap they start at staggered places. Measured in session 30 (docs/performance.md) on 2 threads:
+  // the coarse container's grid_acceleration 4.3x and lagrangian_values 1.5x faster,
+  // the whole run 1.08x; the 32^3 blast 1.15x. Arrays above 32 MiB, glibc's largest
+  // threshold, are still mapped. A user's MALLOC_MMAP_THRESHOLD_ stands.
+  if (std::getenv("MALLOC_MMAP_THRESHOLD_") == nullptr) mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+#endif
   // Open MPI's MPI-IO opens every file with its shared-file-pointer component `sm`,
   // which guards the file with a POSIX semaphore named after the file's base name
   // (/dev/shm/sem.OMPIO_checkpoint_000087.h5.tmp). A run killed while writing leaves
