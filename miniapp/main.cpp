@@ -18,10 +18,11 @@ int main(int argc, char* argv[]) {
   // the same place modulo 4 KiB, and a kernel that reads and writes many of them at one
   // index touches addresses in the same L1 cache sets (8 ways), which the core's
   // store-to-load checks also confuse (4 KiB aliasing): the likely cause of the
-  // slowdown measured. From the heap they start at staggered places. Measured in session 30 (docs/performance.md) on 2 threads:
-  // the coarse container's grid_acceleration 4.3x and lagrangian_values 1.5x faster,
-  // the whole run 1.08x; the 32^3 blast 1.15x. Arrays above 32 MiB, glibc's largest
-  // threshold, are still mapped. A user's MALLOC_MMAP_THRESHOLD_ stands.
+  // slowdown measured. From the heap they start at staggered places. Measured in
+  // session 30 (docs/performance.md) on 2 threads: the coarse container's
+  // grid_acceleration 4.3x and lagrangian_values 1.5x faster, the whole run 1.08x; the
+  // 32^3 blast 1.15x. Arrays above 32 MiB, glibc's largest threshold, are still
+  // mapped. A user's MALLOC_MMAP_THRESHOLD_ stands.
   if (std::getenv("MALLOC_MMAP_THRESHOLD_") == nullptr) mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
 #endif
   // Open MPI's MPI-IO opens every file with its shared-file-pointer component `sm`,
