@@ -89,11 +89,11 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
       const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
-      // The forces in quanta, vectorised over the nodes (a long index and doubles for
-      // the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
+      // The forces in quanta, vectorised over the nodes (a NodeOffset index and doubles
+      // for the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
       double kept_weight[N], force[3][N];
       MPMICE_PRAGMA_SIMD
-      for (long a = 0; a < N; ++a) {
+      for (NodeOffset a = 0; a < N; ++a) {
         const double S = linear_node_weight(wt, a);
         double gx, gy, gz;
         linear_node_gradient(wt, a, gx, gy, gz);

@@ -81,8 +81,10 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
 /// as ParticleWeights::weight forms it, for a vector loop over i: selects on i's bits as
 /// doubles and no arrays (node weights stored before the loop cost a failed store
 /// forward per vector load; with a bool or a local array GCC 12 did not vectorise).
+/// i is a NodeOffset (types.hpp): without AVX-512DQ no vector instruction turns a long
+/// into a double, and with a long index the loop stayed scalar on AVX2 (session 31).
 template <class Shape>
-KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shape>& wt, long i) {
+KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shape>& wt, NodeOffset i) {
   static_assert(Shape::nodes == 2, "the linear shape's 2 x 2 x 2 nodes");
   const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
   const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0];
@@ -94,8 +96,8 @@ KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shap
 /// The weight's gradient (gx, gy, gz) at node i, as ParticleWeights::gradient forms it,
 /// written as linear_node_weight (three doubles, not an array: see there).
 template <class Shape>
-KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shape>& wt, long i, double& gx, double& gy,
-                                                      double& gz) {
+KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shape>& wt, NodeOffset i, double& gx,
+                                                      double& gy, double& gz) {
   const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
   const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0], da = a != 0.0 ? wt.dw[0][1] : wt.dw[0][0];
   const double wb = b != 0.0 ? wt.w[1][1] : wt.w[1][0], db = b != 0.0 ? wt.dw[1][1] : wt.dw[1][0];
@@ -170,11 +172,13 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       p2g_values(data, p, value);
       // The weights kept (0 for a node left out) over the nodes, without branches
       // (Quantum::in_units) and with a double, not a bool, choosing: either kept GCC 12
-      // from vectorising the loop (docs/design.md, "Particle loops"). A long index: with
-      // an int GCC 12 sized the vectors for 8 ints, two 256-bit halves per double.
+      // from vectorising the loop (docs/design.md, "Particle loops"). A NodeOffset
+      // index: with an int and AVX-512 GCC 12 sized the vectors for 8 ints, two 256-bit
+      // halves per double; with a long and AVX2 it left the loop scalar (no vector
+      // long -> double for the weights' choices).
       double kept[N];
       MPMICE_PRAGMA_SIMD
-      for (long a = 0; a < N; ++a) {
+      for (NodeOffset a = 0; a < N; ++a) {
         const double S = linear_node_weight(wt, a);
         const double mass = quantum[0].in_units(S * value[0]);
         kept[a] = mass != 0.0 ? S : 0.0;
