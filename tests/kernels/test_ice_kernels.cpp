@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -362,61 +363,69 @@ TEST(FaceExchange, CopiesOneMaterialAndConservesMomentumOfTwo) {
 }
 
 // The face velocity (E18) on the faces of each direction, for 3 materials of which the
-// second is rigid (no pressure or gravity term), against the formula evaluated here. A
-// wrong material slot, cell offset or term misses by the term's size: the states are
-// random, the pressure term dt vh dp/h is about 1 m/s against velocities up to 3 m/s,
-// and even the gravity term (1e-6 m/s) is over 1e6 times the tolerance. 1e-13: both
-// sides form the same few products and quotients of values of order 1, a few ulps apart
-// at most if the compiler orders them differently. Faces outside the box are not written.
+// second is rigid (no pressure or gravity term), against the formula evaluated here; and
+// for 4 materials in a box of more faces than detail::face_velocity_split_faces, which
+// face_velocity takes one material per pass. A wrong material slot, cell offset or term
+// misses by the term's size: the states are random, the pressure term dt vh dp/h is
+// about 1 m/s against velocities up to 3 m/s, and even the gravity term (1e-6 m/s) is
+// over 1e6 times the tolerance. 1e-13: both sides form the same few products and
+// quotients of values of order 1, a few ulps apart at most if the compiler orders them
+// differently. Faces outside the box are not written.
 TEST(FaceVelocity, MatchesTheFormulaForEveryMaterialAndDirection) {
-  Grid g;
-  g.cells = {5, 6, 7};
-  g.spacing = {1e-3, 2e-3, 1.5e-3};
-  const Patch p = whole_grid_patch(g, 2);
-  std::mt19937 rng(17);
-  const int mats = 3;
-  MaterialTable t;
-  t.count = mats;
-  t.kind[1] = rigid_material;
-  const Field4 rho = random_values(p, Location::cell, mats, 0.5, 2.0, rng),  // kg/m^3
-               v = random_values(p, Location::cell, mats, 0.5, 2.0, rng),    // m^3/kg
-               press_slot = random_values(p, Location::cell, 1, 9e4, 1.1e5, rng);  // Pa
-  const Field3 press = Kokkos::subview(press_slot, 0, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL);
-  const auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rho);
-  const auto vh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
-  const auto ph = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), press);
-  const Location where[3] = {Location::x_face, Location::y_face, Location::z_face};
-  const double dt = 1e-7, gravity = -9.81;
-  for (int d = 0; d < 3; ++d) {
-    const Field4 u = random_values(p, Location::cell, mats, -3.0, 3.0, rng);  // m/s
-    const Field4 out = make_field("U", p, where[d], mats);
-    Kokkos::deep_copy(out, -1e30);
-    IndexBox faces = p.owned_cells();
-    faces.hi[d] += 1;
-    face_velocity(faces, d, g.spacing[d], dt, gravity, t, press, rho, v, u, out);
-    const auto uh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), u);
-    const auto oh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
-    long wrong = 0, written_outside = 0;
-    for (int m = 0; m < mats; ++m)
-      for (int i = 0; i < int(oh.extent(1)); ++i)
-        for (int j = 0; j < int(oh.extent(2)); ++j)
-          for (int k = 0; k < int(oh.extent(3)); ++k) {
-            if (!faces.contains(i, j, k)) {
-              written_outside += oh(m, i, j, k) != -1e30;
-              continue;
+  const auto check = [](std::array<int, 3> cells, int mats) {
+    Grid g;
+    g.cells = cells;
+    g.spacing = {1e-3, 2e-3, 1.5e-3};
+    const Patch p = whole_grid_patch(g, 2);
+    std::mt19937 rng(17);
+    MaterialTable t;
+    t.count = mats;
+    t.kind[1] = rigid_material;
+    const Field4 rho = random_values(p, Location::cell, mats, 0.5, 2.0, rng),  // kg/m^3
+                 v = random_values(p, Location::cell, mats, 0.5, 2.0, rng),    // m^3/kg
+                 press_slot = random_values(p, Location::cell, 1, 9e4, 1.1e5, rng);  // Pa
+    const Field3 press = Kokkos::subview(press_slot, 0, Kokkos::ALL, Kokkos::ALL, Kokkos::ALL);
+    const auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rho);
+    const auto vh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+    const auto ph = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), press);
+    const Location where[3] = {Location::x_face, Location::y_face, Location::z_face};
+    const double dt = 1e-7, gravity = -9.81;
+    for (int d = 0; d < 3; ++d) {
+      const Field4 u = random_values(p, Location::cell, mats, -3.0, 3.0, rng);  // m/s
+      const Field4 out = make_field("U", p, where[d], mats);
+      Kokkos::deep_copy(out, -1e30);
+      IndexBox faces = p.owned_cells();
+      faces.hi[d] += 1;
+      face_velocity(faces, d, g.spacing[d], dt, gravity, t, press, rho, v, u, out);
+      const auto uh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), u);
+      const auto oh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+      long wrong = 0, written_outside = 0;
+      for (int m = 0; m < mats; ++m)
+        for (int i = 0; i < int(oh.extent(1)); ++i)
+          for (int j = 0; j < int(oh.extent(2)); ++j)
+            for (int k = 0; k < int(oh.extent(3)); ++k) {
+              if (!faces.contains(i, j, k)) {
+                written_outside += oh(m, i, j, k) != -1e30;
+                continue;
+              }
+              const int il = i - (d == 0), jl = j - (d == 1), kl = k - (d == 2);
+              const double rl = rh(m, il, jl, kl), rr = rh(m, i, j, k);
+              const double vl = vh(m, il, jl, kl), vr = vh(m, i, j, k);
+              const double u_avg = (rl * uh(m, il, jl, kl) + rr * uh(m, i, j, k)) / (rl + rr);
+              const double push = -dt * (2.0 * vl * vr / (vl + vr)) * (ph(i, j, k) - ph(il, jl, kl)) /
+                                      g.spacing[d] + dt * gravity;
+              const double expected = m == 1 ? u_avg : u_avg + push;
+              wrong += !(std::abs(oh(m, i, j, k) - expected) <= 1e-13 * (std::abs(u_avg) + std::abs(push)));
             }
-            const int il = i - (d == 0), jl = j - (d == 1), kl = k - (d == 2);
-            const double rl = rh(m, il, jl, kl), rr = rh(m, i, j, k);
-            const double vl = vh(m, il, jl, kl), vr = vh(m, i, j, k);
-            const double u_avg = (rl * uh(m, il, jl, kl) + rr * uh(m, i, j, k)) / (rl + rr);
-            const double push = -dt * (2.0 * vl * vr / (vl + vr)) * (ph(i, j, k) - ph(il, jl, kl)) /
-                                    g.spacing[d] + dt * gravity;
-            const double expected = m == 1 ? u_avg : u_avg + push;
-            wrong += !(std::abs(oh(m, i, j, k) - expected) <= 1e-13 * (std::abs(u_avg) + std::abs(push)));
-          }
-    EXPECT_EQ(wrong, 0) << "faces normal to " << d;
-    EXPECT_EQ(written_outside, 0) << "faces normal to " << d;
-  }
+      EXPECT_EQ(wrong, 0) << mats << " materials, faces normal to " << d << ", " << faces.size() << " faces";
+      EXPECT_EQ(written_outside, 0) << mats << " materials, faces normal to " << d;
+    }
+  };
+  check({5, 6, 7}, 3);
+  // 40 x 48 x 70 cells: 136,320 to 137,760 faces in each direction.
+  static_assert(40L * 48 * 70 >= detail::face_velocity_split_faces, "a box that takes one material per pass");
+  static_assert(detail::face_velocity_split_materials <= 4, "a box that takes one material per pass");
+  check({40, 48, 70}, 4);
 }
 
 // First order, advection_change makes the change in one pass, each cell computing its
