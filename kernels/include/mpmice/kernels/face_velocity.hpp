@@ -21,9 +21,10 @@ namespace detail {
 /// A box of at least this many faces takes one material per pass when it has at least
 /// `face_velocity_split_materials` (face_velocity_n). One pass over all materials streams
 /// 4 N + 1 arrays, and at 128^3 cells the plane i - 1 of each (135 KB) has left the 1 MB
-/// L2 by the time plane i reads it; a pass per material streams 5. With 4 materials on
-/// 2 threads (session 31) that was faster from 64^3 cells on, and slower in boxes of
-/// 16^3-32^3 cells, whose arrays stay in cache (the pressure read N times, N launches).
+/// L2 by the time plane i reads it; a pass per material streams 5. With 4 materials
+/// that was faster from 64^3 cells on (session 31: 1.15-1.26x), slower in boxes of
+/// 16^3-32^3 cells, whose arrays stay in cache (the pressure read N times, N launches;
+/// session 30), and with 2 materials no faster (docs/performance.md).
 constexpr long face_velocity_split_faces = 1L << 17;
 constexpr int face_velocity_split_materials = 4;
 
