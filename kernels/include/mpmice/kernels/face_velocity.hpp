@@ -54,18 +54,20 @@ void face_velocity_n(const IndexBox& faces, int d, double spacing, double dt, do
   // not a branch, so the loop over faces vectorises; exact either way).
   Kokkos::Array<double, N> pushed;
   for (int m = 0; m < N; ++m) pushed[m] = mats.is_rigid(m) ? 0.0 : 1.0;
-  if (N >= face_velocity_split_materials && faces.size() >= face_velocity_split_faces) {
-    for (int m = 0; m < N; ++m) {
-      const double push = pushed[m];
-      for_each_index<Rows::longest>(
-          "mpmice::face_velocity", faces, KOKKOS_LAMBDA(long i, long j, long k) {
-            const long il = i - di, jl = j - dj, kl = k - dk;
-            const double dpdx = (press(i, j, k) - press(il, jl, kl)) / spacing;
-            face_vel(m, i, j, k) =
-                material_face_velocity(rho, sp_vol, vel_d, m, i, j, k, il, jl, kl, dpdx, push, dt, gravity);
-          });
+  if constexpr (N >= face_velocity_split_materials) {  // fewer: no per-material loops compiled
+    if (faces.size() >= face_velocity_split_faces) {
+      for (int m = 0; m < N; ++m) {
+        const double push = pushed[m];
+        for_each_index<Rows::longest>(
+            "mpmice::face_velocity", faces, KOKKOS_LAMBDA(long i, long j, long k) {
+              const long il = i - di, jl = j - dj, kl = k - dk;
+              const double dpdx = (press(i, j, k) - press(il, jl, kl)) / spacing;
+              face_vel(m, i, j, k) =
+                  material_face_velocity(rho, sp_vol, vel_d, m, i, j, k, il, jl, kl, dpdx, push, dt, gravity);
+            });
+      }
+      return;
     }
-    return;
   }
   for_each_index<Rows::longest>(
       "mpmice::face_velocity", faces, KOKKOS_LAMBDA(long i, long j, long k) {
