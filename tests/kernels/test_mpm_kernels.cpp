@@ -619,11 +619,13 @@ void expect_groups_read_as_one_particle_at_a_time() {
     Kokkos::deep_copy(each.data(), before);
     double substepped;
     if (transfers) {
-      g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc, temp_rate, transfer);
+      detail::g2p_deforming<Shape, true, true>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, temp_rate, transfer,
+                                               /*in_groups=*/true);
       substepped = detail::g2p_deforming<Shape, true, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate,
                                                             transfer, /*in_groups=*/false);
     } else {
-      g2p<Shape>(grid, n, grouped.data(), 0, dt, 0.25, false, {0, 0, 0}, vel, acc);
+      detail::g2p_deforming<Shape, false, false>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, Field4(),
+                                                 TransferHeat(), /*in_groups=*/true);
       substepped = detail::g2p_deforming<Shape, false, false>(grid, n, each.data(), 0, dt, 0.25, vel, acc, Field4(),
                                                               TransferHeat(), /*in_groups=*/false);
     }

@@ -37,12 +37,36 @@
 #define MPMICE_FLATTEN
 #define MPMICE_ROW
 #endif
+// MPMICE_WIDE_VECTORS: a function whose loops GCC vectorises in 256-bit vectors where
+// its tuning for the CPU prefers 128 bits (AMD Zen 1 and 2, whose AVX units are 128 bits
+// wide: -march=znver1/znver2). The loops inlined into it (flattened) take its setting.
+// For `Vectors::wide`. Left alone with AVX-512 (GCC's own choice, 256 or 512 bits) and
+// on other compilers.
+#if defined(MPMICE_HOST_SIMD) && defined(__GNUC__) && !defined(__clang__) && defined(__AVX2__) && \
+    !defined(__AVX512F__)
+#define MPMICE_WIDE_VECTORS __attribute__((target("prefer-vector-width=256")))
+#define MPMICE_WIDE_VECTORS_ARE_WIDER 1
+#else
+#define MPMICE_WIDE_VECTORS
+#define MPMICE_WIDE_VECTORS_ARE_WIDER 0
+#endif
 
 namespace mpmice {
 
 /// What `reduce_over_index` and `reduce_over_particles` compute: the sum, or the largest
 /// value and 0.
 enum class Reduction { sum, max };
+
+/// The vectors of a particle loop on the host. `preferred`: as wide as the compiler's
+/// tuning for the CPU prefers. `wide`: 256 bits also where that tuning prefers 128
+/// (MPMICE_WIDE_VECTORS), for bodies of much arithmetic per particle, which then take
+/// half the instructions: on AMD Zen 1, g2p and the neo-Hookean stress 1.3-1.7x
+/// (docs/performance.md, session 32). Not the default: GCC 12 compiled some bodies far
+/// more slowly with it (g2p's groups, node_reads.hpp, with GIMP weights: minutes).
+enum class Vectors { preferred, wide };
+
+/// Whether `Vectors::wide` changes anything here (MPMICE_WIDE_VECTORS).
+constexpr bool wide_vectors_are_wider = MPMICE_WIDE_VECTORS_ARE_WIDER;
 
 /// Which index `for_each_index` and `reduce_over_index` run as the vector loop on the
 /// host. `along_k`: always k, the contiguous one. `longest`: k, unless the box is thin
@@ -164,6 +188,22 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
     }
   }
   return acc;
+}
+
+/// run(), compiled with MPMICE_WIDE_VECTORS: the flattened function into which run's
+/// loops are inlined, and so vectorised, for `Vectors::wide`.
+template <class Run>
+MPMICE_FLATTEN MPMICE_WIDE_VECTORS double in_wide_vectors(const Run& run) {
+  return run();
+}
+
+/// simd_run_reduce over particles lo .. hi - 1 in vectors V.
+template <Reduction R, Vectors V, class F>
+KOKKOS_FORCEINLINE_FUNCTION double particle_run_reduce(const F& f, long lo, long hi) {
+  if constexpr (V == Vectors::wide)
+    return in_wide_vectors([&] { return simd_run_reduce<R>(f, lo, hi); });
+  else
+    return simd_run_reduce<R>(f, lo, hi);
 }
 
 /// A row of `for_each_index` as a row function of its own (MPMICE_ROW): simd_run along
@@ -352,14 +392,14 @@ void scatter_from_particle_runs(const std::string& label, long count, const F& f
 }
 
 /// Like `for_each_particle`, for a body f(p) that returns a double: their sum, or
-/// their largest and 0 (as `reduce_over_index`).
-template <Reduction R, class F>
+/// their largest and 0 (as `reduce_over_index`). On the host in vectors V.
+template <Reduction R, Vectors V = Vectors::preferred, class F>
 double reduce_over_particles(const std::string& label, long count, const F& f) {
 #if defined(MPMICE_DEVICE_BACKEND)
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
-    return detail::simd_run_reduce<R>(f, r * detail::particle_run, detail::particle_run_end(r, count));
+    return detail::particle_run_reduce<R, V>(f, r * detail::particle_run, detail::particle_run_end(r, count));
   });
 #endif
 }
