@@ -227,18 +227,16 @@ struct G2pParticle {
 /// Whether g2p reads its node values in groups. Groups of 8 particles in at most three
 /// windows of nodes read the values once for the group instead of gathering them
 /// particle by particle (reduce_over_particle_groups): 1.5-2.2x with linear weights on
-/// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26). Where wide vectors
-/// are wider than the compiler's own (loops.hpp, Vectors: GCC on AVX2 without AVX-512),
-/// every particle gathers its own in wide vectors instead: on AMD Zen 1 that was
-/// 1.3-1.6x the groups with GIMP weights and 1.5-1.7x with linear ones, 0.96x the groups
-/// in wide vectors, which GCC 12 compiled 4x (linear) to 10x (GIMP) more slowly
-/// (session 32).
+/// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26). Where the loops'
+/// vectors are wider than the compiler's own choice (loops.hpp, MPMICE_WIDE_VECTORS: GCC
+/// on AVX2 without AVX-512), every particle gathers its own instead: on AMD Zen 1 that
+/// was 1.3-1.6x the groups in the narrower vectors, and 0.96x the groups in wide ones,
+/// which GCC 12 compiled 4x (linear weights) to 10x (GIMP) more slowly (session 32).
 constexpr bool g2p_reads_in_groups = !wide_vectors_are_wider;
 
 /// (E35, E36) for the particles of a material that deforms (G2pParticle), their node
-/// values read in groups (`in_groups`) or particle by particle in wide vectors (the
-/// tests compare the two). Returns 1 if a particle's deformation needs more than one
-/// sub-step, else 0.
+/// values read in groups (`in_groups`) or particle by particle (the tests compare the
+/// two). Returns 1 if a particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
@@ -246,8 +244,8 @@ double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data,
                      bool in_groups = g2p_reads_in_groups) {
   const G2pParticle<Shape, Heat, Transfer> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
   if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
-  const auto own = KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); };
-  return reduce_over_particles<Reduction::max, Vectors::wide>("mpmice::g2p", count, own);
+  return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
+                                               KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
 }
 
 /// F and V of the particles whose deformation needs more than one sub-step (E36).

@@ -37,11 +37,15 @@
 #define MPMICE_FLATTEN
 #define MPMICE_ROW
 #endif
-// MPMICE_WIDE_VECTORS: a function whose loops GCC vectorises in 256-bit vectors where
-// its tuning for the CPU prefers 128 bits (AMD Zen 1 and 2, whose AVX units are 128 bits
-// wide: -march=znver1/znver2). The loops inlined into it (flattened) take its setting.
-// For `Vectors::wide`. Left alone with AVX-512 (GCC's own choice, 256 or 512 bits) and
-// on other compilers.
+// MPMICE_WIDE_VECTORS: the loop functions below (simd_run, simd_row, ...) are vectorised
+// by GCC in 256-bit vectors where its tuning for the CPU prefers 128 bits (AMD Zen 1 and
+// 2, whose AVX units are 128 bits wide: -march=znver1/znver2); the bodies flattened
+// into them take their setting. On Zen 1 that took g2p and the neo-Hookean stress
+// 1.3-1.6x faster, internal force with linear weights 1.4x, the cell kernels with 4
+// materials 1.1-1.2x, for 6% more compile time (docs/performance.md, session 32). With
+// AVX-512 GCC's own choice stays (256 or 512 bits), as with other compilers. Not the
+// whole build's `-mprefer-vector-width=256`: GCC 12 then compiled g2p's groups
+// (node_reads.hpp) for minutes, and Kokkos's own loops (the plastic stress) ran 0.85x.
 #if defined(MPMICE_HOST_SIMD) && defined(__GNUC__) && !defined(__clang__) && defined(__AVX2__) && \
     !defined(__AVX512F__)
 #define MPMICE_WIDE_VECTORS __attribute__((target("prefer-vector-width=256")))
@@ -57,15 +61,8 @@ namespace mpmice {
 /// value and 0.
 enum class Reduction { sum, max };
 
-/// The vectors of a particle loop on the host. `preferred`: as wide as the compiler's
-/// tuning for the CPU prefers. `wide`: 256 bits also where that tuning prefers 128
-/// (MPMICE_WIDE_VECTORS), for bodies of much arithmetic per particle, which then take
-/// half the instructions: on AMD Zen 1, g2p and the neo-Hookean stress 1.3-1.7x
-/// (docs/performance.md, session 32). Not the default: GCC 12 compiled some bodies far
-/// more slowly with it (g2p's groups, node_reads.hpp, with GIMP weights: minutes).
-enum class Vectors { preferred, wide };
-
-/// Whether `Vectors::wide` changes anything here (MPMICE_WIDE_VECTORS).
+/// Whether the loop functions' vectors are wider than the compiler's own choice here
+/// (MPMICE_WIDE_VECTORS).
 constexpr bool wide_vectors_are_wider = MPMICE_WIDE_VECTORS_ARE_WIDER;
 
 /// Which index `for_each_index` and `reduce_over_index` run as the vector loop on the
@@ -103,7 +100,7 @@ KOKKOS_FORCEINLINE_FUNCTION decltype(auto) call_in_row(const F& f, long n, long 
 /// hi (a row (i, j) of cells, or a chunk of particles). Flattened (every call inside
 /// inlined), because a call left in the loop keeps it from vectorising.
 template <class F, class... Fixed>
-MPMICE_FLATTEN void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
+MPMICE_FLATTEN MPMICE_WIDE_VECTORS void simd_run(const F& f, long lo, long hi, Fixed... fixed) {
   MPMICE_PRAGMA_SIMD
   for (long k = lo; k < hi; ++k) f(fixed..., k);
 }
@@ -154,7 +151,8 @@ void with_row_direction(const BoxRows& rows, const Launch& launch) {
   return launch(std::integral_constant<int, 2>{});
 }
 
-/// One run of `scatter_from_particles`: like simd_run, without the `omp simd`.
+/// One run of `scatter_from_particles`: like simd_run, without the `omp simd`. Not in
+/// wide vectors: p2g with GIMP weights, its one user of note, ran 0.95x in them.
 template <class F>
 MPMICE_FLATTEN void serial_run(const F& f, long lo, long hi) {
   for (long p = lo; p < hi; ++p) f(p);
@@ -162,7 +160,7 @@ MPMICE_FLATTEN void serial_run(const F& f, long lo, long hi) {
 
 /// f(lo, hi), flattened: a run of `scatter_from_particle_runs`.
 template <class F>
-MPMICE_FLATTEN void flat_run(const F& f, long lo, long hi) {
+MPMICE_FLATTEN MPMICE_WIDE_VECTORS void flat_run(const F& f, long lo, long hi) {
   f(lo, hi);
 }
 
@@ -170,7 +168,7 @@ MPMICE_FLATTEN void flat_run(const F& f, long lo, long hi) {
 /// of the body: with the `omp simd` reduction, GCC did not hoist the views' addresses
 /// out of the loop when the body reads them through a reference and also stores to a view.
 template <Reduction R, class F, class... Fixed>
-MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... fixed) {
+MPMICE_FLATTEN MPMICE_WIDE_VECTORS double simd_run_reduce(const F& body, long lo, long hi, Fixed... fixed) {
   const F f = body;
   double acc = 0;
   if constexpr (R == Reduction::sum) {
@@ -190,26 +188,10 @@ MPMICE_FLATTEN double simd_run_reduce(const F& body, long lo, long hi, Fixed... 
   return acc;
 }
 
-/// run(), compiled with MPMICE_WIDE_VECTORS: the flattened function into which run's
-/// loops are inlined, and so vectorised, for `Vectors::wide`.
-template <class Run>
-MPMICE_FLATTEN MPMICE_WIDE_VECTORS double in_wide_vectors(const Run& run) {
-  return run();
-}
-
-/// simd_run_reduce over particles lo .. hi - 1 in vectors V.
-template <Reduction R, Vectors V, class F>
-KOKKOS_FORCEINLINE_FUNCTION double particle_run_reduce(const F& f, long lo, long hi) {
-  if constexpr (V == Vectors::wide)
-    return in_wide_vectors([&] { return simd_run_reduce<R>(f, lo, hi); });
-  else
-    return simd_run_reduce<R>(f, lo, hi);
-}
-
 /// A row of `for_each_index` as a row function of its own (MPMICE_ROW): simd_run along
 /// k, or the same vector loop with the row's index n in place `Along` (i or j).
 template <int Along, class F>
-MPMICE_ROW void simd_row(const F& f, long lo, long hi, long a, long b) {
+MPMICE_ROW MPMICE_WIDE_VECTORS void simd_row(const F& f, long lo, long hi, long a, long b) {
   if constexpr (Along == 2) {
     simd_run(f, lo, hi, a, b);
   } else {
@@ -228,7 +210,7 @@ struct RowBody {
 
 /// A row of `reduce_over_index`: simd_run_reduce as a row function of its own.
 template <Reduction R, int Along, class F>
-MPMICE_ROW double simd_row_reduce(const F& f, long lo, long hi, long a, long b) {
+MPMICE_ROW MPMICE_WIDE_VECTORS double simd_row_reduce(const F& f, long lo, long hi, long a, long b) {
   if constexpr (Along == 2)
     return simd_run_reduce<R>(f, lo, hi, a, b);
   else
@@ -392,14 +374,14 @@ void scatter_from_particle_runs(const std::string& label, long count, const F& f
 }
 
 /// Like `for_each_particle`, for a body f(p) that returns a double: their sum, or
-/// their largest and 0 (as `reduce_over_index`). On the host in vectors V.
-template <Reduction R, Vectors V = Vectors::preferred, class F>
+/// their largest and 0 (as `reduce_over_index`).
+template <Reduction R, class F>
 double reduce_over_particles(const std::string& label, long count, const F& f) {
 #if defined(MPMICE_DEVICE_BACKEND)
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, count), f);
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
-    return detail::particle_run_reduce<R, V>(f, r * detail::particle_run, detail::particle_run_end(r, count));
+    return detail::simd_run_reduce<R>(f, r * detail::particle_run, detail::particle_run_end(r, count));
   });
 #endif
 }

@@ -20,12 +20,12 @@ KOKKOS_INLINE_FUNCTION double step_rate(const SolidModel& model, double J, const
   return rate;
 }
 
-// The elastic neo-Hookean update (E53) as a vector loop over particles (loops.hpp), in
-// wide vectors: writes the stress, returns the largest step_rate.
+// The elastic neo-Hookean update (E53) as a vector loop over particles (loops.hpp):
+// writes the stress, returns the largest step_rate.
 inline double neo_hookean_update(long count, const ParticleData& data, const SolidModel& model,
                                  const Kokkos::Array<double, 3>& h) {
   const SolidModel mat = model;
-  return reduce_over_particles<Reduction::max, Vectors::wide>("mpmice::stress_update", count, KOKKOS_LAMBDA(long p) {
+  return reduce_over_particles<Reduction::max>("mpmice::stress_update", count, KOKKOS_LAMBDA(long p) {
     const Mat3 F = load_tensor(data, p, ParticleField::F00);
     store_tensor(data, p, ParticleField::s00, neo_hookean_stress(F, mat.bulk_modulus, mat.shear_modulus));
     return step_rate(mat, F.det(), data, p, h);
