@@ -42,9 +42,9 @@
 // 2, whose AVX units are 128 bits wide: -march=znver1/znver2); the bodies flattened
 // into them take their setting. On Zen 1 that took g2p and the neo-Hookean stress
 // 1.3-1.6x faster, internal force with linear weights 1.4x, the cell kernels with 4
-// materials 1.1-1.2x, for 6% more compile time (docs/performance.md, session 32). With
-// AVX-512 GCC's own choice stays (256 or 512 bits), as with other compilers. Not the
-// whole build's `-mprefer-vector-width=256`: GCC 12 then compiled g2p's groups
+// materials 1.1-1.2x, and the whole build no longer (docs/performance.md, session 32).
+// With AVX-512 GCC's own choice stays (256 or 512 bits), as with other compilers. Not
+// the whole build's `-mprefer-vector-width=256`: GCC 12 then compiled g2p's groups
 // (node_reads.hpp) for minutes, and Kokkos's own loops (the plastic stress) ran 0.85x.
 #if defined(MPMICE_HOST_SIMD) && defined(__GNUC__) && !defined(__clang__) && defined(__AVX2__) && \
     !defined(__AVX512F__)
