@@ -229,7 +229,7 @@ struct G2pParticle {
 /// particle by particle (reduce_over_particle_groups): 1.5-2.2x with linear weights on
 /// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26). Where the loops'
 /// vectors are wider than the compiler's own choice (loops.hpp, MPMICE_WIDE_VECTORS: GCC
-/// on AVX2 without AVX-512), every particle gathers its own instead: on AMD Zen 1 that
+/// tuning for AMD Zen 1), every particle gathers its own instead: on AMD Zen 1 that
 /// was 1.3-1.6x the groups in the narrower vectors, and 0.96x the groups in wide ones,
 /// which GCC 12 compiled 4x (linear weights) to 10x (GIMP) more slowly (session 32).
 constexpr bool g2p_reads_in_groups = !wide_vectors_are_wider;
