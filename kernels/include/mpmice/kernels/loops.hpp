@@ -38,16 +38,11 @@
 #define MPMICE_ROW
 #endif
 // MPMICE_WIDE_VECTORS: the loop functions below (simd_run, simd_row, ...) are
-// vectorised by GCC in 256-bit vectors where its tuning for the CPU prefers 128 bits
-// with AVX2: AMD Zen 1, whose AVX units are 128 bits wide (-march=znver1, or native
-// there); the bodies flattened into them take their setting. On Zen 1 that took g2p and
-// the neo-Hookean stress 1.3-1.6x faster, internal force with linear weights 1.4x, the
-// cell kernels with 4 materials 1.1-1.2x, and the whole build no longer
-// (docs/performance.md, session 32). Other CPUs keep GCC's own choice (256 bits for
-// Zen 2 and later and Intel's AVX2 cores; 256 or 512 with AVX-512), as do other
-// compilers. Not the whole build's -mprefer-vector-width=256: GCC 12 then compiled
-// g2p's groups (node_reads.hpp) for minutes, and Kokkos's own loops (the plastic
-// stress) ran 0.85x.
+// vectorised by GCC in 256-bit vectors where its tuning prefers 128 bits with AVX2 (AMD
+// Zen 1: -march=znver1, or native there); the bodies flattened into them take their
+// setting. Other CPUs and compilers keep their own choice. Why these functions and not
+// the whole build: docs/design.md, "Vector width"; what it gained: docs/performance.md,
+// session 32.
 #if defined(MPMICE_HOST_SIMD) && defined(__GNUC__) && !defined(__clang__) && defined(__AVX2__) && \
     defined(__tune_znver1__)
 #define MPMICE_WIDE_VECTORS __attribute__((target("prefer-vector-width=256")))
