@@ -217,12 +217,6 @@ void BM_limited_gradient(benchmark::State& state) {
   report(state, p.grid.cell_count(), 64.0);
 }
 
-void cell_sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"cells", "mats"});
-  for (int n : {16, 32, 64, 128})
-    for (int m : {1, 2, 4}) b->Args({n, m});
-}
-
 }  // namespace
 
 BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();

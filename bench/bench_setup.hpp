@@ -150,6 +150,14 @@ inline void cube_sizes(benchmark::internal::Benchmark* b) {
   for (int n : {16, 32, 64, 128}) b->Arg(n);
 }
 
+/// The sizes of the cell benchmarks with materials: 16^3 to 128^3 cells, 1, 2 and 4
+/// materials.
+inline void cell_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"cells", "mats"});
+  for (int n : {16, 32, 64, 128})
+    for (int m : {1, 2, 4}) b->Args({n, m});
+}
+
 /// Reports `items` per iteration, each counted as `bytes_per_item` bytes (the byte
 /// count documented at the top of each benchmark file), as items/s and bytes/s.
 inline void report(benchmark::State& state, long items, double bytes_per_item) {
