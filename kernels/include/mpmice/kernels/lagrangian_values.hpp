@@ -9,6 +9,32 @@ namespace mpmice {
 
 namespace detail {
 
+/// A box of at least this many cells runs the Lagrangian values one material per pass.
+/// Their materials are independent and each streams its own 13 (momentum and energy) or
+/// 17 (a reaction's products) arrays: in one pass 4 materials stream 52 arrays, which
+/// ran at 43% of the triad at 128^3 cells, against 105% for one material's 13
+/// (docs/performance.md, session 33). Smaller boxes stay in cache, where a launch per
+/// material would cost more than it saves.
+constexpr long lagrangian_split_cells = 1L << 15;
+
+/// body(m, i, j, k) for every material m < N and index of `cells`: in one pass with the
+/// materials written out (the loop over cells vectorises), or one pass per material
+/// from `lagrangian_split_cells` cells on. Every (m, i, j, k) gets the same arithmetic
+/// either way.
+template <int N, class Body>
+void for_each_material_and_index(const std::string& label, const IndexBox& cells, const Body& body) {
+  if constexpr (N > 1) {
+    if (cells.size() >= lagrangian_split_cells) {
+      for (int m = 0; m < N; ++m)
+        for_each_index(label, cells, KOKKOS_LAMBDA(long i, long j, long k) { body(m, i, j, k); });
+      return;
+    }
+  }
+  for_each_index(label, cells, KOKKOS_LAMBDA(long i, long j, long k) {
+    unrolled_for<N>([&](int m) { body(m, i, j, k); });
+  });
+}
+
 // lagrangian_mass() and lagrangian_momentum_energy() for N materials: the loop over
 // materials written out, so the loop over cells vectorises.
 template <int N>
@@ -27,13 +53,11 @@ void lagrangian_momentum_energy_n(const IndexBox& cells, const MaterialTable& ma
                                   const VectorField4& mom_L, const Field4& int_eng_L) {
   Kokkos::Array<double, N> cv;
   for (int m = 0; m < N; ++m) cv[m] = mats.eos[m].cv;
-  for_each_index(
-      "mpmice::lagrangian_momentum_energy", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-        unrolled_for<N>([&](int m) {
-          const double mass = mass_L(m, i, j, k);
-          unrolled_for<3>([&](int d) { mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k); });
-          int_eng_L(m, i, j, k) = mass * cv[m] * temp(m, i, j, k) + int_eng_source(m, i, j, k);
-        });
+  for_each_material_and_index<N>(
+      "mpmice::lagrangian_momentum_energy", cells, KOKKOS_LAMBDA(int m, long i, long j, long k) {
+        const double mass = mass_L(m, i, j, k);
+        unrolled_for<3>([&](int d) { mom_L[d](m, i, j, k) = mass * vel[d](m, i, j, k) + mom_source[d](m, i, j, k); });
+        int_eng_L(m, i, j, k) = mass * cv[m] * temp(m, i, j, k) + int_eng_source(m, i, j, k);
       });
 }
 
@@ -65,24 +89,23 @@ void add_product_sources_n(const IndexBox& cells, const MaterialTable& mats, con
                            const ConstVectorField4& mom_source, const ConstField4& energy_source,
                            const ConstVectorField4& vel, const ConstField4& temp, const Field4& mass_L,
                            const VectorField4& mom_L, const Field4& int_eng_L, const Field4& temp_mixed) {
-  for_each_index("mpmice::add_product_sources", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-    unrolled_for<N>([&](int m) {
-      const double dm = mass_source(m, i, j, k);
-      const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
-      double kinetic_gain = 0;
-      unrolled_for<3>([&](int d) {
-        const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
-        const double gain = 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k));
-        kinetic_gain += dm > 0 ? gain : 0.0;
-        mom_L[d](m, i, j, k) += dp;
+  for_each_material_and_index<N>(
+      "mpmice::add_product_sources", cells, KOKKOS_LAMBDA(int m, long i, long j, long k) {
+        const double dm = mass_source(m, i, j, k);
+        const double old_mass = mass_L(m, i, j, k), cv = mats.eos[m].cv, t = temp(m, i, j, k);
+        double kinetic_gain = 0;
+        unrolled_for<3>([&](int d) {
+          const double dp = mom_source[d](m, i, j, k), p_old = old_mass * vel[d](m, i, j, k);
+          const double gain = 0.5 * ((p_old + dp) * (p_old + dp) / (old_mass + dm) - p_old * vel[d](m, i, j, k));
+          kinetic_gain += dm > 0 ? gain : 0.0;
+          mom_L[d](m, i, j, k) += dp;
+        });
+        const double de = energy_source(m, i, j, k) - kinetic_gain;
+        mass_L(m, i, j, k) = old_mass + dm;
+        int_eng_L(m, i, j, k) += de;
+        const double mixed = (old_mass * cv * t + de) / ((old_mass + dm) * cv);
+        temp_mixed(m, i, j, k) = dm > 0 ? mixed : t;
       });
-      const double de = energy_source(m, i, j, k) - kinetic_gain;
-      mass_L(m, i, j, k) = old_mass + dm;
-      int_eng_L(m, i, j, k) += de;
-      const double mixed = (old_mass * cv * t + de) / ((old_mass + dm) * cv);
-      temp_mixed(m, i, j, k) = dm > 0 ? mixed : t;
-    });
-  });
 }
 }  // namespace detail
 
