@@ -16,6 +16,7 @@
 #include <mpmice/kernels/face_exchange.hpp>
 #include <mpmice/kernels/face_velocity.hpp>
 #include <mpmice/kernels/grid_state.hpp>
+#include <mpmice/kernels/lagrangian_values.hpp>
 #include <mpmice/kernels/pressure_work_heat.hpp>
 #include <mpmice/kernels/timestep.hpp>
 
@@ -426,6 +427,111 @@ TEST(FaceVelocity, MatchesTheFormulaForEveryMaterialAndDirection) {
   static_assert(40L * 48 * 70 >= detail::face_velocity_split_faces, "a box that takes one material per pass");
   static_assert(detail::face_velocity_split_materials <= 4, "a box that takes one material per pass");
   check({40, 48, 70}, 4);
+}
+
+// The Lagrangian momentum and energy (E29) and a reaction's products (E30) run the
+// materials in one pass in small boxes and one material per pass in large ones
+// (lagrangian_split_cells): both must give every material of every owned cell its
+// formula and leave the other cells alone. The arithmetic is a product and a sum per
+// value (1e-15 relative: an ulp of either term, should the compiler fuse them); a wrong
+// material or cell is off by the random values' whole size.
+TEST(LagrangianValues, EveryMaterialAndCellInOnePassAndPerMaterial) {
+  const auto check = [](std::array<int, 3> cells, int mats) {
+    Grid g;
+    g.cells = cells;
+    const Patch p = whole_grid_patch(g, 2);
+    std::mt19937 rng(29);
+    MaterialTable t;
+    t.count = mats;
+    for (int m = 0; m < mats; ++m) t.eos[m].cv = 700.0 + 10 * m;
+    const Field4 mass = random_values(p, Location::cell, mats, 1e-9, 2e-9, rng),  // kg
+        temp = random_values(p, Location::cell, mats, 300, 900, rng),                // K
+        work = random_values(p, Location::cell, mats, -1e-4, 1e-4, rng);             // J
+    VectorField4 u, q, mom;
+    for (int d = 0; d < 3; ++d) {
+      u[d] = random_values(p, Location::cell, mats, -10, 10, rng);       // m/s
+      q[d] = random_values(p, Location::cell, mats, -1e-9, 1e-9, rng);   // kg m/s
+      mom[d] = make_field("PL", p, Location::cell, mats);
+      Kokkos::deep_copy(mom[d], -1e30);
+    }
+    const Field4 eng = make_field("EL", p, Location::cell, mats);
+    Kokkos::deep_copy(eng, -1e30);
+    const IndexBox owned = p.owned_cells();
+    lagrangian_momentum_energy(owned, t, mass, {u[0], u[1], u[2]}, temp, {q[0], q[1], q[2]}, work, mom, eng);
+    auto host = [](const Field4& f) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f); };
+    const auto mh = host(mass), th = host(temp), wh = host(work), eh = host(eng);
+    long wrong = 0, written_outside = 0;
+    for (int d = 0; d < 3; ++d) {
+      const auto uh = host(u[d]), qh = host(q[d]), ph = host(mom[d]);
+      for (int m = 0; m < mats; ++m)
+        for (int i = 0; i < int(ph.extent(1)); ++i)
+          for (int j = 0; j < int(ph.extent(2)); ++j)
+            for (int k = 0; k < int(ph.extent(3)); ++k) {
+              if (!owned.contains(i, j, k)) {
+                written_outside += (ph(m, i, j, k) != -1e30) + (d == 0 && eh(m, i, j, k) != -1e30);
+                continue;
+              }
+              const double p_lag = mh(m, i, j, k) * uh(m, i, j, k);
+              wrong += !(std::abs(ph(m, i, j, k) - (p_lag + qh(m, i, j, k))) <=
+                         1e-15 * (std::abs(p_lag) + std::abs(qh(m, i, j, k))));
+              if (d != 0) continue;
+              const double e_lag = mh(m, i, j, k) * t.eos[m].cv * th(m, i, j, k);
+              wrong += !(std::abs(eh(m, i, j, k) - (e_lag + wh(m, i, j, k))) <=
+                         1e-15 * (std::abs(e_lag) + std::abs(wh(m, i, j, k))));
+            }
+    }
+    EXPECT_EQ(wrong, 0) << mats << " materials, " << owned.size() << " cells";
+    EXPECT_EQ(written_outside, 0) << mats << " materials, " << owned.size() << " cells";
+
+    // A reaction's products over the whole box and over boxes of a quarter of it in x
+    // and y (small enough for one pass): the same values.
+    const Field4 dm = random_values(p, Location::cell, mats, 0.0, 1e-10, rng),
+                 de = random_values(p, Location::cell, mats, 0.0, 1e-4, rng);
+    struct State {
+      Field4 mass, eng, mixed;
+      VectorField4 mom;
+    };
+    auto state = [&]() {
+      State s{make_field("mL", p, Location::cell, mats), make_field("EL", p, Location::cell, mats),
+              make_field("Tmix", p, Location::cell, mats), {}};
+      Kokkos::deep_copy(s.mass, mass);
+      Kokkos::deep_copy(s.eng, eng);
+      for (int d = 0; d < 3; ++d) {
+        s.mom[d] = make_field("PL", p, Location::cell, mats);
+        Kokkos::deep_copy(s.mom[d], mom[d]);
+      }
+      return s;
+    };
+    auto products = [&](const IndexBox& box, const State& s) {
+      add_product_sources(box, t, dm, {q[0], q[1], q[2]}, de, {u[0], u[1], u[2]}, temp, s.mass,
+                          {s.mom[0], s.mom[1], s.mom[2]}, s.eng, s.mixed);
+    };
+    const State whole = state(), parts = state();
+    products(owned, whole);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        IndexBox part = owned;
+        part.lo[0] = owned.lo[0] + a * owned.extent(0) / 4;
+        part.hi[0] = owned.lo[0] + (a + 1) * owned.extent(0) / 4;
+        part.lo[1] = owned.lo[1] + b * owned.extent(1) / 4;
+        part.hi[1] = owned.lo[1] + (b + 1) * owned.extent(1) / 4;
+        ASSERT_LT(part.size(), detail::lagrangian_split_cells);
+        products(part, parts);
+      }
+    auto differ = [&](const Field4& a, const Field4& b) {
+      const auto ah = host(a), bh = host(b);
+      long n = 0;
+      for (size_t e = 0; e < ah.size(); ++e)
+        n += !(std::abs(ah.data()[e] - bh.data()[e]) <= 1e-15 * std::abs(bh.data()[e]));
+      return n;
+    };
+    long differing = differ(whole.mass, parts.mass) + differ(whole.eng, parts.eng) + differ(whole.mixed, parts.mixed);
+    for (int d = 0; d < 3; ++d) differing += differ(whole.mom[d], parts.mom[d]);
+    EXPECT_EQ(differing, 0) << mats << " materials, " << owned.size() << " cells";
+  };
+  check({5, 6, 7}, 3);
+  static_assert(32L * 32 * 33 >= detail::lagrangian_split_cells, "a box that takes one material per pass");
+  check({32, 32, 33}, 3);
 }
 
 // First order, advection_change makes the change in one pass, each cell computing its
