@@ -14,7 +14,9 @@ namespace detail {
 /// 17 (a reaction's products) arrays: in one pass 4 materials stream 52 arrays, which
 /// ran at 43% of the triad at 128^3 cells, against 105% for one material's 13
 /// (docs/performance.md, session 33). Smaller boxes stay in cache, where a launch per
-/// material would cost more than it saves.
+/// material would cost more than it saves. face_velocity_n splits its materials the
+/// same way, inline, with its own thresholds (face_velocity_split_faces): its materials
+/// share the pressure gradient, read once per face in one pass.
 constexpr long lagrangian_split_cells = 1L << 15;
 
 /// body(m, i, j, k) for every material m < N and index of `cells`: in one pass with the
