@@ -905,6 +905,68 @@ TEST(Stress, NeoHookeanClosedForms) {
   }
 }
 
+// The stress update as a whole (E53, E58): every particle's stress is (E53) of its F,
+// and the update returns min over particles and directions of h_d / (c_dil + |v_d|),
+// c_dil = sqrt((K + 4G/3) / rho) at rho = rho_0 / J, formed here in long double from the
+// definition (the kernel multiplies by 1/h and takes J (K + 4G/3) / rho_0 under the
+// root: a few roundings apart, so 1e-14 relative). 37 particles: the vector loop's
+// remainder too; anisotropic cells, so the limiting direction matters. The J2 model
+// (a plain loop) below its yield stress returns the same limit; a rigid one, 1e300.
+TEST(Stress, UpdateWritesTheStressAndReturnsTheWaveLimit) {
+  const Patch patch = whole_patch({4, 4, 4}, {1e-3, 2e-3, 0.5e-3});
+  const NodeGrid grid = node_grid(patch);
+  const long n = 37;
+  SolidModel elastic;
+  elastic.density = 8900.0;
+  elastic.bulk_modulus = 1.4e11;
+  elastic.shear_modulus = 4.6e10;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ParticleSet ps("solid", n);
+  ps.resize(n);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  std::vector<Mat3> F(n);
+  long double want = std::numeric_limits<long double>::max();
+  for (long p = 0; p < n; ++p) {
+    for (int c = 0; c < particle_field_count; ++c) h(p, c) = 0.0;
+    F[p] = Mat3::identity();
+    // J from 0.5 to 2 (compression and tension), with shear.
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        F[p](a, b) = a == b ? std::pow(2.0, u(rng) / 3.0) : 0.15 * u(rng);
+        h(p, tensor_column(ParticleField::F00, a, b)) = F[p](a, b);
+        h(p, tensor_column(ParticleField::be00, a, b)) = a == b ? 1.0 : 0.0;
+      }
+    const long double rho = (long double)elastic.density / F[p].det();
+    const long double c = std::sqrt(((long double)elastic.bulk_modulus + 4.0L * elastic.shear_modulus / 3.0L) / rho);
+    for (int d = 0; d < 3; ++d) {
+      const double v = 3000.0 * u(rng);
+      h(p, column(ParticleField::vx) + d) = v;
+      want = std::min(want, (long double)grid.h[d] / (c + std::fabs((long double)v)));
+    }
+  }
+  const auto run = [&](const SolidModel& model) {
+    Kokkos::deep_copy(ps.data(), h);
+    return stress_update(grid, n, ps.data(), model, 1e-9);
+  };
+  const double got = run(elastic);
+  EXPECT_NEAR(got / double(want), 1.0, 1e-14);
+  auto out = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  for (long p = 0; p < n; ++p) {
+    const Mat3 s = neo_hookean_stress(F[p], elastic.bulk_modulus, elastic.shear_modulus);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        ASSERT_NEAR(out(p, tensor_column(ParticleField::s00, a, b)), s(a, b), 1e-12 * elastic.bulk_modulus)
+            << "particle " << p << " stress (" << a << ", " << b << ")";
+  }
+  SolidModel plastic = elastic;
+  plastic.type = SolidModelType::neo_hookean_plastic;
+  EXPECT_NEAR(run(plastic) / double(want), 1.0, 1e-14);
+  SolidModel rigid = elastic;
+  rigid.type = SolidModelType::rigid;
+  EXPECT_EQ(run(rigid), 1e300);
+}
+
 // A copper-like J2 material for the plastic tests (K 100 GPa, G 40 GPa, yield 200 MPa,
 // hardening 2 GPa).
 namespace {
