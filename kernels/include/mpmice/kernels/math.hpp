@@ -26,10 +26,10 @@ KOKKOS_INLINE_FUNCTION bool isfinite(double x) { return kmath::isfinite(x); }
 /// each way (any x in [2^-47, 2^46)); then u = 2^m x lies in [1, 2) (m = 0, 1 or 2), a
 /// quartic fitted to u^(-1/3) there (relative error 3.8e-5) times 2^(m/3) gives y, and
 /// two Newton steps on y^-3 = x the rest (each takes the error e to about 2 e^2). The
-/// selects are plain `?:` on doubles, loop by loop: GCC 12 vectorised the stress update
-/// around it no longer with a big and a small step chosen in one nested `?:`. This took
-/// the elastic stress update 1.4x faster than 16 steps of 8, a parabola and five Newton
-/// steps (docs/performance.md, session 34).
+/// big and the small steps are separate loops: chosen in one nested `?:`, GCC 12 no
+/// longer vectorised the stress update's loop. This took the elastic stress update 1.4x
+/// faster than 16 steps of 8, a parabola and five Newton steps (docs/performance.md,
+/// session 34).
 KOKKOS_INLINE_FUNCTION double inverse_cube_root(double x) {
   double scale = 1.0;
   const double eight_s[4] = {0x1p24, 0x1p12, 0x1p6, 0x1p3}, two_s[4] = {0x1p8, 0x1p4, 0x1p2, 0x1p1};
