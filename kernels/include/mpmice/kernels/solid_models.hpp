@@ -44,15 +44,13 @@ struct SolidModel {
     return {f * prescribed_velocity[0], f * prescribed_velocity[1], f * prescribed_velocity[2]};
   }
 
+  /// The P-wave (dilatational) modulus K + 4G/3, Pa (E58).
+  KOKKOS_INLINE_FUNCTION double dilatational_modulus() const { return bulk_modulus + 4.0 * shear_modulus / 3.0; }
   /// Dilatational wave speed at density rho, m/s (E58).
-  KOKKOS_INLINE_FUNCTION double wave_speed(double rho) const {
-    return math::sqrt((bulk_modulus + 4.0 * shear_modulus / 3.0) / rho);
-  }
+  KOKKOS_INLINE_FUNCTION double wave_speed(double rho) const { return math::sqrt(dilatational_modulus() / rho); }
   /// The same squared per unit J, m^2/s^2: at the density rho_0 / J, c_dil = sqrt(J times
   /// this), without a division (the stress update's step limit).
-  KOKKOS_INLINE_FUNCTION double wave_speed_squared_per_J() const {
-    return (bulk_modulus + 4.0 * shear_modulus / 3.0) / density;
-  }
+  KOKKOS_INLINE_FUNCTION double wave_speed_squared_per_J() const { return dilatational_modulus() / density; }
 };
 
 /// Volumetric (pressure) part of the Cauchy stress, (K/2)(J - 1/J) (E53), with 1/J given.
