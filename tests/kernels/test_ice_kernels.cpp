@@ -49,12 +49,13 @@ TEST(SmallSolve, MatchesKnownSolution) {
 }
 
 // The implicit exchange with m_r beta_rs symmetric conserves sum m_r q_r to round-off
-// for any coefficient, and a huge coefficient equalises the velocities.
-TEST(SmallSolve, ExchangeConservesAndEqualises) {
+// for any coefficient, and a huge coefficient equalises the velocities: for n materials
+// (2: the closed form, 3 and 4: elimination).
+template <int n>
+void check_exchange_conserves_and_equalises() {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.1, 2.0);
   for (double K : {1.0, 1e5, 1e15}) {
-    constexpr int n = 4;
     double mass[n], q[n], beta[n * n];
     double before = 0, scale = 0;
     for (int r = 0; r < n; ++r) {
@@ -70,10 +71,47 @@ TEST(SmallSolve, ExchangeConservesAndEqualises) {
     double after = 0;
     for (int r = 0; r < n; ++r) after += mass[r] * q[r];
     // Elimination with N=4 loses a few ulps of the largest term per operation.
-    EXPECT_NEAR(after, before, 1e-13 * scale) << "K " << K;
+    EXPECT_NEAR(after, before, 1e-13 * scale) << n << " materials, K " << K;
     if (K >= 1e15)
-      for (int r = 1; r < n; ++r) EXPECT_NEAR(q[r], q[0], 1e-9 * scale);
+      for (int r = 1; r < n; ++r) EXPECT_NEAR(q[r], q[0], 1e-9 * scale) << n << " materials";
   }
+}
+
+TEST(SmallSolve, ExchangeConservesAndEqualises) {
+  check_exchange_conserves_and_equalises<2>();
+  check_exchange_conserves_and_equalises<3>();
+  check_exchange_conserves_and_equalises<4>();
+}
+
+// Two materials' closed form (implicit_exchange_pair) against the 2 x 2 system solved
+// by Cramer's rule in long double, plus the uniform shift that keeps sum_r w_r q_r, for
+// weights that do not make w_r beta_rs symmetric (the shift is then not round-off).
+// Coefficients up to K = 1e3: beyond, Cramer's products of size K^2 cancel down to K
+// and long double no longer resolves them to 1e-15 (stiff coefficients:
+// ExchangeConservesAndEqualises).
+TEST(SmallSolve, TwoMaterialExchangeSolvesTheSystem) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.1, 2.0);
+  for (double K : {1e-3, 1.0, 1e3})
+    for (int draw = 0; draw < 20; ++draw) {
+      constexpr int NQ = 3;
+      const double beta[4] = {0, K * u(rng), K * u(rng), 0}, weight[2] = {u(rng), u(rng)};
+      double q[NQ * 2];
+      for (double& v : q) v = 100 * (u(rng) - 1.0);
+      const double old[NQ * 2] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+      implicit_exchange<2, NQ>(beta, q, weight);
+      const long double b01 = beta[1], b10 = beta[2], det = 1 + b01 + b10;
+      for (int k = 0; k < NQ; ++k) {
+        const long double q0 = old[k * 2], q1 = old[k * 2 + 1];
+        const long double rhs0 = b01 * (q1 - q0), rhs1 = b10 * (q0 - q1);
+        const long double dq0 = (rhs0 * (1 + b10) + b01 * rhs1) / det, dq1 = ((1 + b01) * rhs1 + b10 * rhs0) / det;
+        const long double shift = -(weight[0] * dq0 + weight[1] * dq1) / (weight[0] + weight[1]);
+        // About ten roundings of values no larger than |q_0| + |q_1|.
+        const double tol = 4e-15 * (std::abs(old[k * 2]) + std::abs(old[k * 2 + 1]));
+        EXPECT_NEAR(q[k * 2], double(q0 + dq0 + shift), tol) << "K " << K;
+        EXPECT_NEAR(q[k * 2 + 1], double(q1 + dq1 + shift), tol) << "K " << K;
+      }
+    }
 }
 
 // Two ideal gases at different temperatures: the equilibrated pressure is the EOS
