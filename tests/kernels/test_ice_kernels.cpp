@@ -83,35 +83,69 @@ TEST(SmallSolve, ExchangeConservesAndEqualises) {
   check_exchange_conserves_and_equalises<4>();
 }
 
-// Two materials' closed form (implicit_exchange_pair) against the 2 x 2 system solved
-// by Cramer's rule in long double, plus the uniform shift that keeps sum_r w_r q_r, for
-// weights that do not make w_r beta_rs symmetric (the shift is then not round-off).
-// Coefficients up to K = 1e3: beyond, Cramer's products of size K^2 cancel down to K
-// and long double no longer resolves them to 1e-15 (stiff coefficients:
-// ExchangeConservesAndEqualises).
-TEST(SmallSolve, TwoMaterialExchangeSolvesTheSystem) {
+// implicit_exchange for n materials (2: the closed form, 3 and 4: elimination of
+// A (q + dq) = q) against the system as (E31) writes it, A dq = sum_s beta_rs (q_s - q_r),
+// solved by elimination in long double, plus the uniform shift that keeps
+// sum_r w_r q_r, for weights that do not make w_r beta_rs symmetric (the shift is then
+// not round-off). Coefficients up to K = 1e3: beyond, the reference's elimination
+// cancels products of size K^2 down to K and long double no longer resolves them to
+// 1e-15 (stiff coefficients: ExchangeConservesAndEqualises).
+template <int n>
+void check_exchange_solves_the_system() {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.1, 2.0);
   for (double K : {1e-3, 1.0, 1e3})
     for (int draw = 0; draw < 20; ++draw) {
       constexpr int NQ = 3;
-      const double beta[4] = {0, K * u(rng), K * u(rng), 0}, weight[2] = {u(rng), u(rng)};
-      double q[NQ * 2];
-      for (double& v : q) v = 100 * (u(rng) - 1.0);
-      const double old[NQ * 2] = {q[0], q[1], q[2], q[3], q[4], q[5]};
-      implicit_exchange<2, NQ>(beta, q, weight);
-      const long double b01 = beta[1], b10 = beta[2], det = 1 + b01 + b10;
-      for (int k = 0; k < NQ; ++k) {
-        const long double q0 = old[k * 2], q1 = old[k * 2 + 1];
-        const long double rhs0 = b01 * (q1 - q0), rhs1 = b10 * (q0 - q1);
-        const long double dq0 = (rhs0 * (1 + b10) + b01 * rhs1) / det, dq1 = ((1 + b01) * rhs1 + b10 * rhs0) / det;
-        const long double shift = -(weight[0] * dq0 + weight[1] * dq1) / (weight[0] + weight[1]);
-        // About ten roundings of values no larger than |q_0| + |q_1|.
-        const double tol = 4e-15 * (std::abs(old[k * 2]) + std::abs(old[k * 2 + 1]));
-        EXPECT_NEAR(q[k * 2], double(q0 + dq0 + shift), tol) << "K " << K;
-        EXPECT_NEAR(q[k * 2 + 1], double(q1 + dq1 + shift), tol) << "K " << K;
+      double beta[n * n], weight[n], q[NQ * n];
+      for (int r = 0; r < n; ++r) {
+        weight[r] = u(rng);
+        for (int s = 0; s < n; ++s) beta[r * n + s] = r == s ? 0.0 : K * u(rng);
       }
+      for (double& v : q) v = 100 * (u(rng) - 1.0);
+      long double expect[NQ * n];
+      for (int k = 0; k < NQ; ++k) {
+        long double a[n][n + 1];  // the matrix and the right side
+        for (int r = 0; r < n; ++r) {
+          a[r][r] = 1;
+          a[r][n] = 0;
+          for (int s = 0; s < n; ++s)
+            if (s != r) {
+              a[r][r] += beta[r * n + s];
+              a[r][s] = -beta[r * n + s];
+              a[r][n] += beta[r * n + s] * ((long double)q[k * n + s] - q[k * n + r]);
+            }
+        }
+        for (int c = 0; c < n; ++c)
+          for (int r = c + 1; r < n; ++r) {
+            const long double f = a[r][c] / a[c][c];
+            for (int s = c; s <= n; ++s) a[r][s] -= f * a[c][s];
+          }
+        long double dq[n], wsum = 0, wdq = 0;
+        for (int r = n - 1; r >= 0; --r) {
+          dq[r] = a[r][n];
+          for (int s = r + 1; s < n; ++s) dq[r] -= a[r][s] * dq[s];
+          dq[r] /= a[r][r];
+          wsum += weight[r];
+          wdq += weight[r] * dq[r];
+        }
+        for (int r = 0; r < n; ++r) expect[k * n + r] = q[k * n + r] + dq[r] - wdq / wsum;
+      }
+      double scale[NQ] = {};
+      for (int k = 0; k < NQ; ++k)
+        for (int r = 0; r < n; ++r) scale[k] += std::abs(q[k * n + r]);
+      implicit_exchange<n, NQ>(beta, q, weight);
+      // A few roundings per operation of values no larger than sum_r |q_r|; elimination
+      // with 4 materials takes a few dozen operations.
+      for (int i = 0; i < NQ * n; ++i)
+        EXPECT_NEAR(q[i], double(expect[i]), 1e-14 * scale[i / n]) << n << " materials, K " << K << ", entry " << i;
     }
+}
+
+TEST(SmallSolve, ExchangeSolvesTheSystem) {
+  check_exchange_solves_the_system<2>();
+  check_exchange_solves_the_system<3>();
+  check_exchange_solves_the_system<4>();
 }
 
 // Two ideal gases at different temperatures: the equilibrated pressure is the EOS

@@ -49,8 +49,8 @@ KOKKOS_INLINE_FUNCTION void solve_dense(double* a, double* b) {
 /// implicit_exchange for two materials in closed form. Subtracting the two rows of the
 /// system gives the new difference d = (q_1 - q_0) / (1 + beta_01 + beta_10), and the
 /// rows then read dq_0 = beta_01 d and dq_1 = -beta_10 d: the same exact solution as
-/// elimination, with one division per call instead of two in sequence and about half
-/// the arithmetic (1.2-1.3x for the exchange and the face exchange of two materials,
+/// elimination, with one division per call instead of two in sequence and less than
+/// half the arithmetic (1.2-1.3x for the exchange and the face exchange of two materials,
 /// docs/performance.md, session 35). The uniform shift that restores sum_r w_r q_r is
 /// implicit_exchange's.
 template <int NQ>
@@ -68,14 +68,17 @@ KOKKOS_INLINE_FUNCTION void implicit_exchange_pair(double beta_01, double beta_1
 
 /// The exchange system of (E19)/(E31): with beta_rs = beta[r * N + s] given, solve
 /// (1 + sum_s beta_rs) dq_r - sum_s beta_rs dq_s = sum_s beta_rs (q_s - q_r)
-/// for `NQ` quantities q[k * N + r], and add dq to q.
+/// for `NQ` quantities q[k * N + r], and add dq to q. The matrix is A = I + L, L the
+/// beta's Laplacian (L q)_r = sum_s beta_rs (q_r - q_s), and the right side is -L q, so
+/// the new values q + dq solve A (q + dq) = q: elimination (solve_dense) solves that,
+/// with no right side to form (1.12-1.19x with 4 materials, docs/performance.md,
+/// session 35). Two materials take the closed form (implicit_exchange_pair).
 ///
 /// `weight` w_r makes w_r beta_rs symmetric (a mass, for (E31)), so the exact solution
 /// keeps sum_r w_r q_r. With a stiff coefficient (K = 1e15) the matrix is nearly
-/// singular along the uniform vector and elimination errs mostly in that direction;
-/// shifting the result by a uniform amount restores sum_r w_r q_r to round-off, which
-/// is the exact solution's property. Two materials take the closed form
-/// (implicit_exchange_pair), more take elimination (solve_dense).
+/// singular along the uniform vector (relative to its size) and elimination errs mostly
+/// in that direction; shifting the result by a uniform amount restores sum_r w_r q_r to
+/// round-off, which is the exact solution's property.
 template <int N, int NQ>
 KOKKOS_INLINE_FUNCTION void implicit_exchange(const double* beta, double* q, const double* weight) {
   if constexpr (N == 1) {
@@ -93,24 +96,17 @@ KOKKOS_INLINE_FUNCTION void implicit_exchange(const double* beta, double* q, con
         a[r * N + s] = -beta[r * N + s];
       });
       a[r * N + r] = diag;
-      unrolled_for<NQ>([&](int k) {
-        double rhs = 0.0;
-        unrolled_for<N>([&](int s) {
-          if (s != r) rhs += beta[r * N + s] * (q[k * N + s] - q[k * N + r]);
-        });
-        b[k * N + r] = rhs;
-      });
     });
+    unrolled_for<NQ * N>([&](int i) { b[i] = q[i]; });
     solve_dense<N, NQ>(a, b);
     double wsum = 0.0;
     unrolled_for<N>([&](int r) { wsum += weight[r]; });
     const double inv_wsum = 1.0 / wsum;
     unrolled_for<NQ>([&](int k) {
-      // sum_r w_r dq_r must vanish.
-      double shift = 0.0;
-      unrolled_for<N>([&](int r) { shift -= weight[r] * b[k * N + r]; });
+      double shift = 0.0;  // sum_r w_r (q_r - b_r) / sum_r w_r
+      unrolled_for<N>([&](int r) { shift += weight[r] * (q[k * N + r] - b[k * N + r]); });
       shift *= inv_wsum;
-      unrolled_for<N>([&](int r) { q[k * N + r] += b[k * N + r] + shift; });
+      unrolled_for<N>([&](int r) { q[k * N + r] = b[k * N + r] + shift; });
     });
   }
 }
