@@ -50,9 +50,9 @@ KOKKOS_INLINE_FUNCTION void solve_dense(double* a, double* b) {
 /// system gives the new difference d = (q_1 - q_0) / (1 + beta_01 + beta_10), and the
 /// rows then read dq_0 = beta_01 d and dq_1 = -beta_10 d: the same exact solution as
 /// elimination, with one division per call instead of two in sequence and less than
-/// half the arithmetic (1.2-1.3x for the exchange and the face exchange of two materials,
-/// docs/performance.md, session 35). The uniform shift that restores sum_r w_r q_r is
-/// implicit_exchange's.
+/// half the arithmetic (on 1 thread 1.17-1.33x for the exchange and the face exchange
+/// of two materials, docs/performance.md, session 35). The uniform shift that restores
+/// sum_r w_r q_r is implicit_exchange's.
 template <int NQ>
 KOKKOS_INLINE_FUNCTION void implicit_exchange_pair(double beta_01, double beta_10, double* q, const double* weight) {
   const double inv_denominator = 1.0 / (1.0 + beta_01 + beta_10);
