@@ -28,6 +28,7 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
     const long first = rows.at(wt.first);
     const Mat3 stress = force_stress(data, p);
     const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
+    const double vol_units = vol * quantum.scale;  // V in units of force (Quantum::whole_units)
     auto node = scatter.access();
     double given[3] = {0, 0, 0}, heaviest = 0;
     long heaviest_row = -1;
@@ -41,7 +42,8 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
           if (mass_quantum.q > 0 && mass_quantum.round(S * mp) == 0.0) return;
           const long row = first + rows.step(a, b, c);
           for (int d = 0; d < 3; ++d) {
-            const double f = quantum.round(vol * (stress(d, 0) * g[0] + stress(d, 1) * g[1] + stress(d, 2) * g[2]));
+            const double units = vol_units * (stress(d, 0) * g[0] + stress(d, 1) * g[1] + stress(d, 2) * g[2]);
+            const double f = quantum.unit * quantum.whole_units(units);
             node(row, d) -= f;
             given[d] += f;
           }
@@ -89,6 +91,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
       const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
+      const double vol_units = vol * quantum.scale;  // V in units of force (Quantum::whole_units)
       // The forces in quanta, vectorised over the nodes (a NodeOffset index and doubles
       // for the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
       double kept_weight[N], force[3][N];
@@ -98,9 +101,9 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         double gx, gy, gz;
         linear_node_gradient(wt, a, gx, gy, gz);
         const double kept = mass_quantum.in_units(S * mp) + mass_quantum.unrounded;
-        const double f0 = quantum.in_units(vol * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz));
-        const double f1 = quantum.in_units(vol * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz));
-        const double f2 = quantum.in_units(vol * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz));
+        const double f0 = quantum.whole_units(vol_units * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz));
+        const double f1 = quantum.whole_units(vol_units * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz));
+        const double f2 = quantum.whole_units(vol_units * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz));
         kept_weight[a] = kept != 0.0 ? S : 0.0;
         force[0][a] = kept != 0.0 ? f0 : 0.0;
         force[1][a] = kept != 0.0 ? f1 : 0.0;

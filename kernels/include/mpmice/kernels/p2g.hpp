@@ -59,6 +59,9 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
     const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
     const long first = rows.at(wt.first);
     p2g_values(data, p, value);
+    // The other fields in their units once for all nodes (Quantum::whole_units): one
+    // product fewer per node and field, the same rounded values.
+    for (int f = 1; f < F; ++f) value[f] *= quanta.scale[f];
     auto node = scatter.access();
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
@@ -70,7 +73,7 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
           node(row, 0) += quanta.unit[0] * mass;
           // The other 8 fields: one 8-wide vector operation where the CPU has it.
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += quanta.round(f, S * value[f]);
+          for (int f = 1; f < F; ++f) node(row, f) += quanta.unit[f] * quanta.whole_units(f, S * value[f]);
         });
       });
     });
@@ -170,6 +173,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       double value[F];
       p2g_values(data, p, value);
+      for (int f = 1; f < F; ++f) value[f] *= quanta.scale[f];  // in units, as in p2g_each_particle
       // The weights kept (0 for a node left out) over the nodes, without branches
       // (Quantum::in_units) and with a double, not a bool, choosing: either kept GCC 12
       // from vectorising the loop (docs/design.md, "Particle loops"). A NodeOffset
@@ -186,7 +190,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       }
       unrolled_for<N>([&](int a) {
         MPMICE_PRAGMA_SIMD
-        for (int f = 1; f < F; ++f) units[a][f - 1] += quanta.in_units(f, kept[a] * value[f]);
+        for (int f = 1; f < F; ++f) units[a][f - 1] += quanta.whole_units(f, kept[a] * value[f]);
       });
     };
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);

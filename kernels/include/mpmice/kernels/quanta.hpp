@@ -61,12 +61,18 @@ struct Quantum {
   /// `unit` times a sum of them the sum of the rounded values: a loop adding many
   /// contributions adds their counts and multiplies once (p2g_cell_runs).
   KOKKOS_INLINE_FUNCTION double in_units(double x) const { return nearest_whole(x * scale, magic); }
+  /// `in_units(x)` of x given in units already: x_in_units = x * scale, or a product
+  /// with a factor given in units, S (v scale), which is (S v) scale bit for bit (scale a
+  /// power of two), so that a particle's values are scaled once for all its nodes.
+  KOKKOS_INLINE_FUNCTION double whole_units(double x_in_units) const { return nearest_whole(x_in_units, magic); }
 
   /// A value counted in units (x/q, exact), rounded to the nearest whole number with a
-  /// quantum's `magic` (x itself for magic = 0). Callers pass x/q as `x * scale`, never
-  /// a product folded into the scale: x * scale + magic is then the same whether or not
-  /// the compiler fuses it into an FMA, and every kernel rounds a contribution alike
-  /// (p2g's and internal_force's "does this node get mass" must agree).
+  /// quantum's `magic` (x itself for magic = 0). The mass's rounding, which p2g and
+  /// internal_force both make ("does this node get mass" must agree), is always passed
+  /// as `x * scale`, never a product folded into the scale: x * scale + magic is then the
+  /// same whether or not the compiler fuses it into an FMA. Other contributions may come
+  /// as S (v scale) (`whole_units`): bit for bit the same without FMA contraction
+  /// (MPMICE_REPRODUCIBLE, the default), and a whole number of units either way.
   KOKKOS_FORCEINLINE_FUNCTION static double nearest_whole(double x_in_units, double magic) {
     const double t = x_in_units + magic;
     return t - magic;
@@ -89,6 +95,10 @@ struct QuantumArray {
   /// q[f].in_units(x) bit for bit.
   KOKKOS_FORCEINLINE_FUNCTION double in_units(int f, double x) const {
     return Quantum::nearest_whole(x * scale[f], magic[f]);
+  }
+  /// q[f].whole_units(x_in_units) bit for bit.
+  KOKKOS_FORCEINLINE_FUNCTION double whole_units(int f, double x_in_units) const {
+    return Quantum::nearest_whole(x_in_units, magic[f]);
   }
 };
 
