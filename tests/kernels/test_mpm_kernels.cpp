@@ -495,10 +495,7 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
   const NodeScatter& scatter = scratch.zeroed("each", each.mass, detail::p2g_fields);
   detail::p2g_each_particle<LinearShape>(grid, n, ps.data(), scatter, block_stencil<2>(each.mass),
                                          detail::p2g_quanta(q));
-  add_scatter_into<detail::p2g_fields>(scatter,
-                                       {each.mass, each.mom[0], each.mom[1], each.mom[2], each.heat, each.volume,
-                                        each.fext[0], each.fext[1], each.fext[2]},
-                                       0, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
+  detail::add_p2g_scatter_into(scatter, each, 0, q);
   const Field4 a[9] = {runs.mass, runs.mom[0], runs.mom[1], runs.mom[2], runs.heat, runs.volume,
                        runs.fext[0], runs.fext[1], runs.fext[2]};
   const Field4 b[9] = {each.mass, each.mom[0], each.mom[1], each.mom[2], each.heat, each.volume,
@@ -1191,7 +1188,7 @@ TEST(InternalForce, LinearCellRunsAddAsOneParticleAtATime) {
   const NodeScatter& scatter = scratch.zeroed("each", each[0], 3);
   detail::internal_force_each_particle<LinearShape>(grid, n, ps.data(), scatter, block_stencil<2>(each[0]),
                                                     Quantum(q.internal_force), Quantum(q.mass));
-  add_scatter_into<3>(scatter, {each[0], each[1], each[2]}, 0, {0, 0, 0});
+  detail::add_force_scatter_into(scatter, each, 0, Quantum(q.internal_force));
   for (int d = 0; d < 3; ++d) {
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), runs[d]);
     auto y = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), each[d]);

@@ -43,7 +43,7 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
           const long row = first + rows.step(a, b, c);
           for (int d = 0; d < 3; ++d) {
             const double units = vol_units * (stress(d, 0) * g[0] + stress(d, 1) * g[1] + stress(d, 2) * g[2]);
-            const double f = quantum.unit * quantum.whole_units(units);
+            const double f = quantum.whole_units(units);  // in units, as the scatter holds it
             node(row, d) -= f;
             given[d] += f;
           }
@@ -83,7 +83,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
         const long row = run_first + rows.steps[a];
-        for (int d = 0; d < 3; ++d) node(row, d) += units[d][a] * quantum.unit;
+        for (int d = 0; d < 3; ++d) node(row, d) += units[d][a];
       });
       for (int d = 0; d < 3; ++d)
         for (int a = 0; a < N; ++a) units[d][a] = 0.0;
@@ -134,6 +134,11 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
 }
+
+/// `fint` from internal_force's scatter, whose forces are counted in the quantum `q`.
+inline void add_force_scatter_into(const NodeScatter& scatter, const VectorField4& fint, int m, const Quantum& q) {
+  add_scatter_into<3>(scatter, {fint[0], fint[1], fint[2]}, m, {0, 0, 0}, {q.unit, q.unit, q.unit});
+}
 }  // namespace detail
 
 /// Resets `fint` (material slot m) over the patch, then scatters (E24). The gas gauge
@@ -159,7 +164,7 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
     detail::internal_force_cell_runs<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
   else
     detail::internal_force_each_particle<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
-  add_scatter_into<3>(scatter, {fint[0], fint[1], fint[2]}, m, {0, 0, 0});
+  detail::add_force_scatter_into(scatter, fint, m, quantum);
 }
 
 /// The same with copies of its own.

@@ -99,18 +99,21 @@ KOKKOS_FORCEINLINE_FUNCTION double take_copies(const Copies& copies, long row, i
 }
 }  // namespace detail
 
-/// dest[f](m, node) = start[f] + what the particle loop added into the node's row through
-/// `scatter` (the threads' copies in thread order); the copies are zeroed on the way,
-/// ready for the next loop.
+/// dest[f](m, node) = start[f] + unit[f] times what the particle loop added into the
+/// node's row through `scatter` (the threads' copies in thread order): p2g and
+/// internal_force add each field counted in its quantum (quanta.hpp; unit 1 without
+/// one), and multiply here, once per node instead of once per contribution. A sum of
+/// whole counts is exact, so the product is the sum of the rounded contributions bit for
+/// bit. The copies are zeroed on the way, ready for the next loop.
 template <int F>
 void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
-                      const Kokkos::Array<double, F>& start) {
+                      const Kokkos::Array<double, F>& start, const Kokkos::Array<double, F>& unit) {
   const auto copies = scatter.copies();
   const IndexBox nodes{{0, 0, 0}, {int(dest[0].extent(1)), int(dest[0].extent(2)), int(dest[0].extent(3))}};
   const long nj = nodes.hi[1], nk = nodes.hi[2];
   for_each_index("mpmice::add_scatter_into", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
     const long row = (i * nj + j) * nk + k;
-    for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + detail::take_copies(copies, row, f);
+    for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + unit[f] * detail::take_copies(copies, row, f);
   });
 }
 

@@ -70,10 +70,10 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
           const double mass = quantum[0].in_units(S * value[0]);
           if (mass == 0.0) return;
           const long row = first + rows.step(a, b, c);
-          node(row, 0) += quanta.unit[0] * mass;
+          node(row, 0) += mass;  // in units, as every field here (add_scatter_into)
           // The other 8 fields: one 8-wide vector operation where the CPU has it.
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += quanta.unit[f] * quanta.whole_units(f, S * value[f]);
+          for (int f = 1; f < F; ++f) node(row, f) += quanta.whole_units(f, S * value[f]);
         });
       });
     });
@@ -146,9 +146,9 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const Node
 /// fields at once (8 particles per cell: 1/8 of the adds). A node
 /// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
 /// run counts each contribution in its quantum (Quantum::in_units: 2 vector operations,
-/// against 3 for the rounded value) and multiplies by the quantum when it adds into the
-/// scatter. The sums' order differs from p2g_each_particle's: without quanta a node's
-/// value changes at round-off; with quanta, as in the driver, not at all.
+/// against 3 for the rounded value), as the scatter holds them (add_scatter_into). The
+/// sums' order differs from p2g_each_particle's: without quanta a node's value changes
+/// at round-off; with quanta, as in the driver, not at all.
 template <class Shape>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
@@ -162,9 +162,9 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       unrolled_for<N>([&](int a) {
         if (mass_units[a] != 0.0) {
           const long row = run_first + rows.steps[a];
-          node(row, 0) += mass_units[a] * quanta.unit[0];
+          node(row, 0) += mass_units[a];
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += units[a][f - 1] * quanta.unit[f];
+          for (int f = 1; f < F; ++f) node(row, f) += units[a][f - 1];
         }
         mass_units[a] = 0.0;
         for (int f = 0; f < F - 1; ++f) units[a][f] = 0.0;
@@ -196,6 +196,16 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
 }
+
+/// The node sums from p2g's scatter, whose fields are counted in the quanta `q`. Mass
+/// and volume start at 1e-200 so that no node divides by zero.
+inline void add_p2g_scatter_into(const NodeScatter& scatter, const NodeSums& sums, int m, const SumQuanta& q) {
+  constexpr int F = p2g_fields;
+  add_scatter_into<F>(scatter,
+                      {sums.mass, sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.volume, sums.fext[0],
+                       sums.fext[1], sums.fext[2]},
+                      m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0}, QuantumArray<F>(p2g_quanta(q)).unit);
+}
 }  // namespace detail
 
 /// (E12) for the `count` particles of `data` into material slot m of `sums` (which the
@@ -205,18 +215,13 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
 template <class Shape>
 void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, const NodeSums& sums,
          const SumQuanta& q, ScatterScratch& scratch) {
-  constexpr int F = detail::p2g_fields;
-  const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, F);
+  const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, detail::p2g_fields);
   const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
   if constexpr (Shape::nodes == 2)
     detail::p2g_cell_runs<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
   else
     detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
-  // Mass and volume start at 1e-200 so that no node divides by zero.
-  add_scatter_into<F>(scatter,
-                      {sums.mass, sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.volume, sums.fext[0],
-                       sums.fext[1], sums.fext[2]},
-                      m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0});
+  detail::add_p2g_scatter_into(scatter, sums, m, q);
 }
 
 /// The same with copies of its own.
