@@ -7,6 +7,7 @@
 #include <mpmice/kernels/version.hpp>
 
 #include "bench_setup.hpp"
+#include "git_revision.hpp"  // generated: MPMICE_GIT_REVISION
 
 namespace {
 
