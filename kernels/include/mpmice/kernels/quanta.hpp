@@ -59,7 +59,8 @@ struct Quantum {
   /// `round(x)` counted in `unit`s, without a branch: a whole number with q > 0 (for
   /// |x| <= 2^51 q), x itself with q = 0. `unit` times it is round(x) bit for bit, and so is
   /// `unit` times a sum of them the sum of the rounded values: a loop adding many
-  /// contributions adds their counts and multiplies once (p2g_cell_runs).
+  /// contributions adds their counts and multiplies once (p2g and internal_force, in
+  /// add_scatter_into).
   KOKKOS_INLINE_FUNCTION double in_units(double x) const { return nearest_whole(x * scale, magic); }
   /// `in_units(x)` of x given in units already: x_in_units = x * scale, or a product
   /// with a factor given in units, S (v scale), which is (S v) scale bit for bit (scale a
