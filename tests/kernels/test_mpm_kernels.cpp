@@ -495,7 +495,7 @@ TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) {
   const NodeScatter& scatter = scratch.zeroed("each", each.mass, detail::p2g_fields);
   detail::p2g_each_particle<LinearShape>(grid, n, ps.data(), scatter, block_stencil<2>(each.mass),
                                          detail::p2g_quanta(q));
-  detail::add_p2g_scatter_into(scatter, each, 0, q);
+  detail::add_p2g_scatter_into(scatter, each, 0, detail::p2g_quanta(q));
   const Field4 a[9] = {runs.mass, runs.mom[0], runs.mom[1], runs.mom[2], runs.heat, runs.volume,
                        runs.fext[0], runs.fext[1], runs.fext[2]};
   const Field4 b[9] = {each.mass, each.mom[0], each.mom[1], each.mom[2], each.heat, each.volume,

@@ -27,8 +27,9 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
     const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
     const long first = rows.at(wt.first);
     const Mat3 stress = force_stress(data, p);
-    const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
-    const double vol_units = vol * quantum.scale;  // V in units of force (Quantum::whole_units)
+    // V in units of force (Quantum::whole_units), the mass in kg (rounded as p2g rounds it).
+    const double vol_units = data(p, column(ParticleField::volume)) * quantum.scale;
+    const double mp = data(p, column(ParticleField::mass));
     auto node = scatter.access();
     double given[3] = {0, 0, 0}, heaviest = 0;
     long heaviest_row = -1;
@@ -90,8 +91,8 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     };
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
-      const double vol = data(p, column(ParticleField::volume)), mp = data(p, column(ParticleField::mass));
-      const double vol_units = vol * quantum.scale;  // V in units of force (Quantum::whole_units)
+      const double vol_units = data(p, column(ParticleField::volume)) * quantum.scale;  // as each_particle
+      const double mp = data(p, column(ParticleField::mass));
       // The forces in quanta, vectorised over the nodes (a NodeOffset index and doubles
       // for the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
       double kept_weight[N], force[3][N];

@@ -23,9 +23,12 @@ struct NodeSums {
 
 namespace detail {
 /// What particle p gives its nodes, times their weight (E12): mass, momentum (3), m T,
-/// volume, external force (3).
+/// volume, external force (3); all but the mass in their units of `quanta`, scaled once
+/// for all nodes (Quantum::whole_units: one product fewer per node and field, the same
+/// rounded values). The mass stays in kg: its share rounds as internal_force rounds it.
 constexpr int p2g_fields = 9;
-KOKKOS_FORCEINLINE_FUNCTION void p2g_values(const ParticleData& data, long p, double* value) {
+KOKKOS_FORCEINLINE_FUNCTION void p2g_values(const ParticleData& data, long p, const QuantumArray<p2g_fields>& quanta,
+                                            double* value) {
   const double mp = data(p, column(ParticleField::mass));
   value[0] = mp;
   value[1] = mp * data(p, column(ParticleField::vx));
@@ -36,6 +39,7 @@ KOKKOS_FORCEINLINE_FUNCTION void p2g_values(const ParticleData& data, long p, do
   value[6] = data(p, column(ParticleField::fext_x));
   value[7] = data(p, column(ParticleField::fext_y));
   value[8] = data(p, column(ParticleField::fext_z));
+  for (int f = 1; f < p2g_fields; ++f) value[f] *= quanta.scale[f];
 }
 
 /// The quantum of each of p2g_values.
@@ -58,10 +62,7 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
     double value[F];
     const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
     const long first = rows.at(wt.first);
-    p2g_values(data, p, value);
-    // The other fields in their units once for all nodes (Quantum::whole_units): one
-    // product fewer per node and field, the same rounded values.
-    for (int f = 1; f < F; ++f) value[f] *= quanta.scale[f];
+    p2g_values(data, p, quanta, value);
     auto node = scatter.access();
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
@@ -172,8 +173,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
     };
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       double value[F];
-      p2g_values(data, p, value);
-      for (int f = 1; f < F; ++f) value[f] *= quanta.scale[f];  // in units, as in p2g_each_particle
+      p2g_values(data, p, quanta, value);
       // The weights kept (0 for a node left out) over the nodes, without branches
       // (Quantum::in_units) and with a double, not a bool, choosing: either kept GCC 12
       // from vectorising the loop (docs/design.md, "Particle loops"). A NodeOffset
@@ -197,14 +197,15 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
   });
 }
 
-/// The node sums from p2g's scatter, whose fields are counted in the quanta `q`. Mass
-/// and volume start at 1e-200 so that no node divides by zero.
-inline void add_p2g_scatter_into(const NodeScatter& scatter, const NodeSums& sums, int m, const SumQuanta& q) {
+/// The node sums from p2g's scatter, whose fields are counted in `quantum`. Mass and
+/// volume start at 1e-200 so that no node divides by zero.
+inline void add_p2g_scatter_into(const NodeScatter& scatter, const NodeSums& sums, int m,
+                                 const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int F = p2g_fields;
   add_scatter_into<F>(scatter,
                       {sums.mass, sums.mom[0], sums.mom[1], sums.mom[2], sums.heat, sums.volume, sums.fext[0],
                        sums.fext[1], sums.fext[2]},
-                      m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0}, QuantumArray<F>(p2g_quanta(q)).unit);
+                      m, {1e-200, 0, 0, 0, 0, 1e-200, 0, 0, 0}, QuantumArray<F>(quantum).unit);
 }
 }  // namespace detail
 
@@ -217,11 +218,12 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
          const SumQuanta& q, ScatterScratch& scratch) {
   const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, detail::p2g_fields);
   const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
+  const Kokkos::Array<Quantum, detail::p2g_fields> quantum = detail::p2g_quanta(q);
   if constexpr (Shape::nodes == 2)
-    detail::p2g_cell_runs<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
+    detail::p2g_cell_runs<Shape>(grid, count, data, scatter, rows, quantum);
   else
-    detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, detail::p2g_quanta(q));
-  detail::add_p2g_scatter_into(scatter, sums, m, q);
+    detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, quantum);
+  detail::add_p2g_scatter_into(scatter, sums, m, quantum);
 }
 
 /// The same with copies of its own.
