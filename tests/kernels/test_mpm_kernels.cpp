@@ -20,6 +20,7 @@
 #include <mpmice/kernels/particle_sort.hpp>
 #include <mpmice/kernels/particle_totals.hpp>
 #include <mpmice/kernels/stress_update.hpp>
+#include <mpmice/kernels/trilinear.hpp>
 
 using namespace mpmice;
 
@@ -192,6 +193,47 @@ void transfer_test() {
 }
 
 TEST(Transfer, LinearConservesAndReproduces) { transfer_test<LinearShape>(); }
+
+// The interpolant over a cell (trilinear.hpp) is the linear shape's sum: at random
+// points of a cell with random node values in [-1, 1], its value and slopes against
+// sum_i S_i f_i and sum_i dS_i/dr f_i formed from the 1D weights (1 - r, r) and their
+// derivatives (-1, 1). Both are sums of 8 terms of at most 1 with a few roundings each:
+// 1e-14 is about 50 ulp of 1, and an interpolant with any coefficient wrong by a node
+// value's share misses by far more. A uniform field gives its value and zero slopes
+// exactly (g2p: a body at rest stays at rest without round-off).
+TEST(Transfer, TrilinearIsTheLinearShapesSum) {
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double worst = 0;
+  for (int round = 0; round < 1000; ++round) {
+    double f[8];
+    for (double& value : f) value = 2 * u(rng) - 1;
+    const Trilinear t = Trilinear::of(f);
+    const double r[3] = {u(rng), u(rng), u(rng)};
+    double sum = 0, slope_sum[3] = {0, 0, 0};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const double w[3] = {a ? r[0] : 1 - r[0], b ? r[1] : 1 - r[1], c ? r[2] : 1 - r[2]};
+          const double dw[3] = {a ? 1.0 : -1.0, b ? 1.0 : -1.0, c ? 1.0 : -1.0};
+          const double fi = f[4 * a + 2 * b + c];
+          sum += w[0] * w[1] * w[2] * fi;
+          slope_sum[0] += dw[0] * w[1] * w[2] * fi;
+          slope_sum[1] += w[0] * dw[1] * w[2] * fi;
+          slope_sum[2] += w[0] * w[1] * dw[2] * fi;
+        }
+    double slope[3];
+    const double value = t.value_and_slopes(r[0], r[1], r[2], slope);
+    EXPECT_EQ(t.value(r[0], r[1], r[2]), value);
+    worst = std::max(worst, std::abs(value - sum));
+    for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(slope[d] - slope_sum[d]));
+  }
+  EXPECT_LE(worst, 1e-14);
+  const double uniform[8] = {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3};
+  double slope[3];
+  EXPECT_EQ(Trilinear::of(uniform).value_and_slopes(0.1, 0.7, 0.9, slope), 0.3);
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(slope[d], 0.0);
+}
 TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
 
 // (E36) over n sub-steps: the vector loop decides n = 1 (one_deformation_step) without
@@ -282,12 +324,14 @@ TEST(Deformation, LargeVelocityGradientIsSubstepped) {
 // p2g, g2p and a plain host loop must compute the same weights to the last bit (the
 // momentum g2p gives back balances what p2g took only then; shape.hpp). Particles sit
 // four cells apart, so a node's mass is one particle's weight times its mass of 1,
-// exactly; with an acceleration of 1 on every node, g2p's velocity change is its
-// sum of weights, added in the host loop's order: node by node for the linear shape,
-// direction by direction for GIMP (g2p never forms GIMP's 3D weights; its sums over k,
-// then j, then i of the 1D weights, G2pParticle::sum_by_direction). Before shape.hpp
-// avoided it, GCC fused products into FMAs differently in the vectorised g2p: half the
-// particles differed in the last bit.
+// exactly; with an acceleration of 1 on every node, g2p's velocity change with GIMP is
+// its sum of weights, added in the host loop's order, direction by direction (g2p never
+// forms GIMP's 3D weights; its sums over k, then j, then i of the 1D weights,
+// G2pParticle::sum_by_direction). Before shape.hpp avoided it, GCC fused products into
+// FMAs differently in the vectorised g2p: half the particles differed in the last bit.
+// With the linear shape g2p forms no weights either: it evaluates the interpolant over
+// the particle's cell (trilinear.hpp), which for a uniform field is the field's value,
+// exactly 1 here; its position enters through the same 1D weights (r = w[1]).
 template <class Shape>
 void weights_agree_test() {
   const Patch patch = whole_patch({16, 16, 16}, {0.1, 0.2, 0.05});
@@ -338,6 +382,7 @@ void weights_agree_test() {
             sum += S;
             p2g_same = p2g_same && mass(0, wt.first[0] + a, wt.first[1] + b, wt.first[2] + c) == 1e-200 + S;
           }
+      if (Shape::nodes == 2) sum = 1.0;  // the linear shape's interpolant of a uniform field: exact
       if (Shape::nodes == 3) {
         sum = 0;
         for (int a = 0; a < Shape::nodes; ++a) {
@@ -535,8 +580,11 @@ struct WindowReads {
 #endif
 
 // g2p reads the node values of a group of 8 consecutive particles once for the group
-// when their windows of nodes are one of two or three (reduce_over_particle_groups,
-// ReadWindows), else particle by particle (ReadOwnNodes). Either way every particle
+// when their windows of nodes are one of two or three (GIMP: reduce_over_particle_groups,
+// ReadWindows), else particle by particle (ReadOwnNodes); with the linear shape it forms
+// the interpolants of a cell once for each run of its particles, and takes them in
+// vector blocks of 4 and 2 and one by one (reduce_over_cell_runs), else each particle
+// its own cell's. Either way every particle
 // must get the same values, bit for bit, as reading particle by particle throughout:
 // groups in one, two, three and more windows (runs of many, one and no particles, an
 // unsorted tail), nodes of zero weight (GIMP's far nodes: ReadWindows reads them,

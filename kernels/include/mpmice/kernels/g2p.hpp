@@ -10,6 +10,7 @@
 #include <mpmice/kernels/particle_grid.hpp>
 #include <mpmice/kernels/shape.hpp>
 #include <mpmice/kernels/solid_models.hpp>
+#include <mpmice/kernels/trilinear.hpp>
 
 namespace mpmice {
 
@@ -45,10 +46,11 @@ struct TransferHeat {
 };
 
 namespace detail {
-/// (E35, E36) for particle p of a material that deforms, its node values read through
-/// `read` (node_reads.hpp); `Heat`: temp_rate given; `Transfer`: the heat of
-/// `TransferHeat` too. Returns 1 if the particle's deformation needs more than one
-/// sub-step (its F and V are then left for `g2p_substeps`), else 0.
+/// (E35, E36) for particle p of a material that deforms: with GIMP its node values read
+/// through `read` (node_reads.hpp, `operator()`), with the linear shape from the
+/// interpolants over its cell (trilinear.hpp, `in_cell`); `Heat`: temp_rate given;
+/// `Transfer`: the heat of `TransferHeat` too. Returns 1 if the particle's deformation
+/// needs more than one sub-step (its F and V are then left for `g2p_substeps`), else 0.
 template <class Shape, bool Heat, bool Transfer>
 struct G2pParticle {
   NodeGrid grid;
@@ -88,29 +90,22 @@ struct G2pParticle {
     Mat3 L = Mat3::zero();
   };
 
-  /// The sums node by node: each node's weight and gradient, then its values. A GIMP
-  /// node of zero weight has a zero gradient too (its w and dw are 0 along some
-  /// direction) and is read where the particle's middle node is (ReadOwnNodes), so its
-  /// gradient is set to 0 here whatever the value read. A linear node of zero weight (a
-  /// particle exactly on a node plane) has a gradient of +-1/h along the plane's normal,
-  /// and L needs it: without it a uniform velocity v gave L = -v/h there. Its node is
-  /// in the particle's cell, so it is read and kept: `kept`, S + 1 for the linear shape,
-  /// is never 0 (`Transfer.LinearNodePlaneParticlesGetTheVelocityGradient`). Written as
-  /// the same select for both shapes: with no select for the linear shape, GCC 12
-  /// compiled its g2p 0.60-0.75x as fast (not analysed; docs/performance.md, session 27).
+  /// The sums node by node (GIMP, as MPMICE calls it): each node's weight and gradient,
+  /// then its values. A node of zero weight has a zero gradient too (its w and dw are 0
+  /// along some direction) and is read where the particle's middle node is
+  /// (ReadOwnNodes), so its gradient is set to 0 here whatever the value read.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_node_by_node(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
     constexpr int n = Shape::nodes;
-    constexpr bool gimp = n == 3;
     unrolled_for<n>([&](int a) {
       unrolled_for<n>([&](int b) {
         unrolled_for<n>([&](int c) {
-          const double S = wt.weight(a, b, c), kept = gimp ? S : S + 1.0;
-          const auto node = read.node(first, middle, nodes.step(a, b, c), kept);
+          const double S = wt.weight(a, b, c);
+          const auto node = read.node(first, middle, nodes.step(a, b, c), S);
           double g[3];
           wt.gradient(a, b, c, g);
-          for (int e = 0; e < 3; ++e) g[e] = kept != 0.0 ? g[e] : 0.0;
+          for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
           if (Heat) s.t += S * node(t_node);
           if (Transfer) s.q += S * node(q_node);
           for (int d = 0; d < 3; ++d) {
@@ -132,8 +127,7 @@ struct G2pParticle {
   /// products instead of four, and no 3D weight is formed. A node of zero weight (GIMP)
   /// has a zero w and dw along some direction, so its value (finite; ReadOwnNodes reads
   /// the middle node's there) adds nothing. With GIMP's 27 nodes, 1.1-1.2x on 1 thread
-  /// (docs/performance.md, session 26). Not for the linear shape: 0.91-0.97x the sums
-  /// node by node (session 27). Not with the transfers' terms either (MPMICE): with
+  /// (docs/performance.md, session 26). Not with the transfers' terms (MPMICE): with
   /// their sums too, the coarse container's g2p ran 0.92x, so this takes no q_i and
   /// |a_i|^2 sums.
   template <class Read>
@@ -178,18 +172,90 @@ struct G2pParticle {
     });
   }
 
+  /// The linear shape's node fields over one cell (trilinear.hpp): v*, a, and the heat
+  /// rate (Heat), the transfers' energy and |a_i|^2 (Transfer).
+  struct CellFields {
+    Trilinear v[3], a[3], t, q, a2;
+  };
+
+  /// CellFields of the cell whose first node is at `place` (`first`), from its 8 nodes.
+  /// Every node of the cell is read: a node of zero weight (a particle on a node plane)
+  /// has a gradient, and L needs it.
+  KOKKOS_FORCEINLINE_FUNCTION CellFields cell_fields(long place) const {
+    static_assert(Shape::nodes == 2, "the linear shape");
+    const auto of = [&](const ConstNodeArray& field) {
+      double f[8];
+      for (int i = 0; i < 8; ++i) f[i] = field(place + nodes.steps[i]);
+      return Trilinear::of(f);
+    };
+    CellFields f;
+    for (int d = 0; d < 3; ++d) {
+      f.v[d] = of(v_node[d]);
+      f.a[d] = of(a_node[d]);
+    }
+    if (Heat) f.t = of(t_node);
+    if (Transfer) {
+      f.q = of(q_node);
+      double a2[8];
+      for (int i = 0; i < 8; ++i) {
+        const long at = place + nodes.steps[i];
+        const double ax = a_node[0](at), ay = a_node[1](at), az = a_node[2](at);
+        a2[i] = ax * ax + ay * ay + az * az;
+      }
+      f.a2 = Trilinear::of(a2);
+    }
+    return f;
+  }
+
+  /// The sums of a particle at r (cell units) in the cell of `f`: the interpolants'
+  /// values, and L from v*'s slopes.
+  KOKKOS_FORCEINLINE_FUNCTION void sum_in_cell(const CellFields& f, const double* r, GatheredSums& s) const {
+    for (int d = 0; d < 3; ++d) {
+      double slope[3];
+      s.v[d] = f.v[d].value_and_slopes(r[0], r[1], r[2], slope);
+      for (int e = 0; e < 3; ++e) s.L(d, e) = slope[e] * grid.inv_h[e];
+      s.a[d] = f.a[d].value(r[0], r[1], r[2]);
+    }
+    if (Heat) s.t = f.t.value(r[0], r[1], r[2]);
+    if (Transfer) {
+      s.q = f.q.value(r[0], r[1], r[2]);
+      s.a2 = f.a2.value(r[0], r[1], r[2]);
+    }
+  }
+
+  /// Particle p of the linear shape with the fields of its cell, `f` (particles sorted by
+  /// cell share them: reduce_over_cell_runs). Returns as operator().
+  KOKKOS_FORCEINLINE_FUNCTION double in_cell(long p, const CellFields& f) const {
+    double x[3], half[3];
+    particle_position(data, p, x, half);
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    const double r[3] = {wt.w[0][1], wt.w[1][1], wt.w[2][1]};  // w = (1 - r, r): LinearShape
+    GatheredSums s;
+    sum_in_cell(f, r, s);
+    return update(p, x, s);
+  }
+
+  /// Particle p of the linear shape with the fields of its own cell.
+  KOKKOS_FORCEINLINE_FUNCTION double own_cell(long p) const { return in_cell(p, cell_fields(first(p))); }
+
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {
+    static_assert(Shape::nodes == 3, "the linear shape's particles: in_cell");
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = nodes.at(wt.first), middle = nodes.middle(first);
     GatheredSums s;
-    if constexpr (Shape::nodes == 3 && !Transfer) {  // where it is faster (sum_by_direction)
+    if constexpr (!Transfer) {  // where it is faster (sum_by_direction)
       sum_by_direction(wt, first, middle, read, s);
     } else {
       sum_node_by_node(wt, first, middle, read, s);
     }
+    return update(p, x, s);
+  }
+
+  /// (E35, E36) from particle p's sums, its position before the step `x`.
+  KOKKOS_FORCEINLINE_FUNCTION double update(long p, const double* x, const GatheredSums& s) const {
     for (int d = 0; d < 3; ++d) {
       double& v = data(p, column(ParticleField::vx) + d);
       v = (1.0 - pic_fraction) * (v + dt * s.a[d]) + pic_fraction * s.v[d];
@@ -224,10 +290,11 @@ struct G2pParticle {
   }
 };
 
-/// Whether g2p reads its node values in groups. Groups of 8 particles in at most three
+/// Whether g2p reads GIMP's node values in groups. Groups of 8 particles in at most three
 /// windows of nodes read the values once for the group instead of gathering them
 /// particle by particle (reduce_over_particle_groups): 1.5-2.2x with linear weights on
-/// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26). Where the loops'
+/// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26; the linear shape
+/// now reads by cell, session 37). Where the loops'
 /// vectors are wider than the compiler's own choice (loops.hpp, MPMICE_WIDE_VECTORS: GCC
 /// tuning for AMD Zen 1), every particle gathers its own instead: on AMD Zen 1 that
 /// was 1.3-1.6x the groups in the narrower vectors, and 0.96x the groups in wide ones,
@@ -235,17 +302,24 @@ struct G2pParticle {
 constexpr bool g2p_reads_in_groups = !wide_vectors_are_wider;
 
 /// (E35, E36) for the particles of a material that deforms (G2pParticle), their node
-/// values read in groups (`in_groups`) or particle by particle (the tests compare the
-/// two). Returns 1 if a particle's deformation needs more than one sub-step, else 0.
+/// values read for many particles at once (`in_groups`: the linear shape's cells,
+/// reduce_over_cell_runs; GIMP's groups, reduce_over_particle_groups) or particle by
+/// particle (the tests compare the two: the same values, bit for bit). Returns 1 if a particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
                      const ConstField4& temp_rate, const TransferHeat& transfer,
-                     bool in_groups = g2p_reads_in_groups) {
+                     bool in_groups = Shape::nodes == 2 || g2p_reads_in_groups) {
   const G2pParticle<Shape, Heat, Transfer> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
-  if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
-  return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
-                                               KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
+  if constexpr (Shape::nodes == 2) {
+    if (in_groups) return reduce_over_cell_runs<Reduction::max>("mpmice::g2p", count, body);
+    return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
+                                                 KOKKOS_LAMBDA(long p) { return body.own_cell(p); });
+  } else {
+    if (in_groups) return reduce_over_particle_groups<Reduction::max>("mpmice::g2p", count, body);
+    return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
+                                                 KOKKOS_LAMBDA(long p) { return body(p, ReadOwnNodes{}); });
+  }
 }
 
 /// F and V of the particles whose deformation needs more than one sub-step (E36).
@@ -269,11 +343,14 @@ inline void g2p_substeps(long count, const ParticleData& data, double dt) {
 /// L_p = sum v*_i (x) grad S_ip, F <- (I + L dt/n)^n F, V_p <- V_p J_new/J_old (E36).
 /// A rigid material moves with `rigid_velocity`.
 ///
-/// The loop over particles vectorises (loops.hpp): the nodes are written out, a node of
-/// zero weight adds nothing (ReadOwnNodes, node_reads.hpp), and a particle whose
-/// deformation needs more than one sub-step (|L| dt >= 1, rare) is finished by a second,
-/// scalar pass. Groups of particles in at most three windows of nodes (particles sorted by
-/// window, particle_sort.hpp) read their node values once per group
+/// The loop over particles vectorises (loops.hpp) and a particle whose deformation needs
+/// more than one sub-step (|L| dt >= 1, rare) is finished by a second, scalar pass. With
+/// the linear shape, the particles of a cell (sorted by cell, particle_sort.hpp) share the
+/// interpolants of its node fields (trilinear.hpp), formed once per cell
+/// (reduce_over_cell_runs; 1.15-1.5x the weights' sums node by node, docs/performance.md,
+/// session 37). With GIMP the nodes are written out, a node of zero weight adds nothing
+/// (ReadOwnNodes, node_reads.hpp), and groups of particles in at most three windows of
+/// nodes (particles sorted by window) read their node values once per group
 /// (reduce_over_particle_groups), except where wide vectors pay more
 /// (detail::g2p_reads_in_groups).
 template <class Shape>

@@ -6,6 +6,8 @@
 ///        of two or three (`ReadWindows`; the particles of a set sorted by window,
 ///        particle_sort.hpp), every window's values, the same for every particle, and
 ///        selects. `reduce_over_particle_groups` chooses between them group by group.
+///        Particles whose node values are the same for a whole cell (the linear shape)
+///        take them once per run of one cell's particles: `reduce_over_cell_runs`.
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -16,8 +18,7 @@
 namespace mpmice {
 
 /// Each particle reads node (first + step) of its own, or its `middle` node where the
-/// node's weight S is zero (for the linear shape's nodes, whose gradients it needs at
-/// any weight, g2p passes S + 1): such a node adds nothing, and a particle loop without
+/// node's weight S is zero: such a node adds nothing, and a particle loop without
 /// branches then reads no node outside the particle's reach (GIMP's nodes of zero weight
 /// can lie past the patch's ghost nodes). Arithmetic, not a select: GCC turned the select
 /// into masked loads, which it could not vectorise here.
@@ -59,9 +60,7 @@ KOKKOS_INLINE_FUNCTION long window_place(const NodeStencil<Nodes>& nodes, const 
 /// it, instead of a gather), and the particle's is selected. A GIMP node of zero weight
 /// (its far nodes) is read where ReadOwnNodes reads the particle's middle node, and,
 /// its value finite, adds nothing either way (with an infinite or NaN value there the
-/// particle would get NaN); g2p reads the linear shape's nodes of zero weight (a
-/// particle on a node plane) both ways, for their gradients. Every
-/// window must lie in the node arrays (window_place: checked for GIMP, true for a linear
+/// particle would get NaN). Every window must lie in the node arrays (window_place: checked for GIMP, true for a linear
 /// particle in the patch or its ghost cells). Host only (reduce_over_particle_groups).
 template <int Windows>
 struct ReadWindows {
@@ -170,6 +169,57 @@ double reduce_over_particle_groups(const std::string& label, long count, const B
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
     return detail::grouped_run_reduce<R>(body, r * detail::particle_run, detail::particle_run_end(r, count));
+  });
+#endif
+}
+
+namespace detail {
+#if !defined(MPMICE_DEVICE_BACKEND)
+/// Particles per vector block of `reduce_over_cell_runs`: four doubles, a 256-bit vector.
+constexpr long cell_block = 4;
+
+/// One run [lo, hi) of `reduce_over_cell_runs`, flattened (loops.hpp): the particles of
+/// each cell in blocks of cell_block as one vector loop of known length (a loop over a
+/// cell's few particles, of a length known only at run time, GCC ran scalar), the rest
+/// one by one. Both take the cell's fields once, in the same arithmetic.
+template <Reduction R, class Body>
+MPMICE_FLATTEN MPMICE_WIDE_VECTORS double cell_run_reduce(const Body& particle_body, long lo, long hi) {
+  const Body body = particle_body;  // its own copy, as simd_run_reduce
+  double acc = 0;
+  long p = lo;
+  while (p < hi) {
+    const long place = body.first(p);
+    long end = p + 1;
+    while (end < hi && body.first(end) == place) ++end;
+    const auto fields = body.cell_fields(place);
+    const auto in_cell = [&](long q) { return body.in_cell(q, fields); };
+    for (; p + cell_block <= end; p += cell_block) combine<R>(acc, simd_run_reduce<R>(in_cell, p, p + cell_block));
+    if (p + 2 <= end) {
+      combine<R>(acc, simd_run_reduce<R>(in_cell, p, p + 2));
+      p += 2;
+    }
+    for (; p < end; ++p) combine<R>(acc, in_cell(p));
+  }
+  return acc;
+}
+#endif
+}  // namespace detail
+
+/// Like `reduce_over_particles`, for particles whose node values are the same for every
+/// particle of a cell (the linear shape), sorted by cell (particle_sort.hpp): `body.first(p)`
+/// gives the place of particle p's cell, `body.cell_fields(place)` what its particles
+/// read of the nodes, and `body.in_cell(p, fields)` particle p's value. On the host a
+/// run of consecutive particles of one cell takes the fields once and goes as vector
+/// loops (detail::cell_run_reduce); unsorted particles are runs of one. On a GPU every
+/// particle takes its own (the same values).
+template <Reduction R, class Body>
+double reduce_over_cell_runs(const std::string& label, long count, const Body& body) {
+#if defined(MPMICE_DEVICE_BACKEND)
+  return reduce_over_particles<R>(label, count,
+                                  KOKKOS_LAMBDA(long p) { return body.in_cell(p, body.cell_fields(body.first(p))); });
+#else
+  return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
+    return detail::cell_run_reduce<R>(body, r * detail::particle_run, detail::particle_run_end(r, count));
   });
 #endif
 }
