@@ -208,7 +208,9 @@ TEST(Transfer, TrilinearIsTheLinearShapesSum) {
   for (int round = 0; round < 1000; ++round) {
     double f[8];
     for (double& value : f) value = 2 * u(rng) - 1;
-    const Trilinear t = Trilinear::of(f);
+    double c[8], c4[8 * 4];  // the coefficients alone, and as the third of 4 cells side by side
+    trilinear::coefficients(f, c);
+    trilinear::coefficients<4>(f, c4 + 2);
     const double r[3] = {u(rng), u(rng), u(rng)};
     double sum = 0, slope_sum[3] = {0, 0, 0};
     for (int a = 0; a < 2; ++a)
@@ -222,16 +224,19 @@ TEST(Transfer, TrilinearIsTheLinearShapesSum) {
           slope_sum[1] += w[0] * dw[1] * w[2] * fi;
           slope_sum[2] += w[0] * w[1] * dw[2] * fi;
         }
-    double slope[3];
-    const double value = t.value_and_slopes(r[0], r[1], r[2], slope);
-    EXPECT_EQ(t.value(r[0], r[1], r[2]), value);
+    double slope[3], slope4[3];
+    const double value = trilinear::value(c, r[0], r[1], r[2], slope);
+    EXPECT_EQ(trilinear::value(c, r[0], r[1], r[2]), value);
+    EXPECT_EQ(trilinear::value<4>(c4 + 2, r[0], r[1], r[2], slope4), value);
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(slope4[d], slope[d]);
     worst = std::max(worst, std::abs(value - sum));
     for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(slope[d] - slope_sum[d]));
   }
   EXPECT_LE(worst, 1e-14);
   const double uniform[8] = {0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3};
-  double slope[3];
-  EXPECT_EQ(Trilinear::of(uniform).value_and_slopes(0.1, 0.7, 0.9, slope), 0.3);
+  double c[8], slope[3];
+  trilinear::coefficients(uniform, c);
+  EXPECT_EQ(trilinear::value(c, 0.1, 0.7, 0.9, slope), 0.3);
   for (int d = 0; d < 3; ++d) EXPECT_EQ(slope[d], 0.0);
 }
 TEST(Transfer, GimpConservesAndReproduces) { transfer_test<GimpShape>(); }
@@ -625,6 +630,12 @@ void expect_groups_read_as_one_particle_at_a_time() {
           // inside the block of nodes.
           h(p, column(ParticleField::x) + 1) = (5.0 + 1.55 + 0.15 * u()) * h_cell[1];
           for (int d : {0, 2}) h(p, column(ParticleField::x) + d) = (2.0 + 0.1 * u()) * h_cell[d];
+        } else if (!gimp && p < 24) {
+          // The third (linear): the last cell of the node arrays, the outermost ghost
+          // cell above the patch along i, j and k, whose cells' batch of node values
+          // (reduce_over_cell_runs) would read past the arrays' end, and starts lower.
+          const int cells[3] = {6, 5, 4};
+          for (int d = 0; d < 3; ++d) h(p, column(ParticleField::x) + d) = (cells[d] + 1.1 + 0.8 * u()) * h_cell[d];
         }
         // Every 4th particle onto a node plane along d: the one below it (linear), its
         // nearest (GIMP; its window stays the same). Not the second group's along j: its

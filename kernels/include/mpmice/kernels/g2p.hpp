@@ -172,71 +172,83 @@ struct G2pParticle {
     });
   }
 
-  /// The linear shape's node fields over one cell (trilinear.hpp): v*, a, and the heat
-  /// rate (Heat), the transfers' energy and |a_i|^2 (Transfer).
+  /// The linear shape's node fields over W cells, as the coefficients of their
+  /// interpolants (trilinear.hpp): field f's coefficient j of cell w at c[f][j][w]. The
+  /// fields: v* (0-2), a (3-5), the heat rate (6, Heat), the transfers' energy and
+  /// |a_i|^2 (7, 8, Transfer).
+  template <int W>
   struct CellFields {
-    Trilinear v[3], a[3], t, q, a2;
+    double c[9][8][W];
   };
 
-  /// CellFields of the cell whose first node is at `place` (`first`), from its 8 nodes.
-  /// Every node of the cell is read: a node of zero weight (a particle on a node plane)
+  /// CellFields of the W cells whose first nodes are at `place`, place + 1, ...,
+  /// place + W - 1 (along k in the host's layout), from their 8 nodes each, in one
+  /// vector loop over the cells; returns `place`, or a lower one where the last of the W
+  /// would read past the node arrays (W > 1: the cells from there, `place` among them).
+  /// Every node of a cell is read: a node of zero weight (a particle on a node plane)
   /// has a gradient, and L needs it.
-  KOKKOS_FORCEINLINE_FUNCTION CellFields cell_fields(long place) const {
+  template <int W>
+  KOKKOS_FORCEINLINE_FUNCTION long cell_fields(long place, CellFields<W>& f) const {
     static_assert(Shape::nodes == 2, "the linear shape");
-    const auto of = [&](const ConstNodeArray& field) {
-      double f[8];
-      for (int i = 0; i < 8; ++i) f[i] = field(place + nodes.steps[i]);
-      return Trilinear::of(f);
-    };
-    CellFields f;
-    for (int d = 0; d < 3; ++d) {
-      f.v[d] = of(v_node[d]);
-      f.a[d] = of(a_node[d]);
-    }
-    if (Heat) f.t = of(t_node);
-    if (Transfer) {
-      f.q = of(q_node);
-      double a2[8];
-      for (int i = 0; i < 8; ++i) {
-        const long at = place + nodes.steps[i];
-        const double ax = a_node[0](at), ay = a_node[1](at), az = a_node[2](at);
-        a2[i] = ax * ax + ay * ay + az * az;
+    const long last = long(v_node[0].extent(0)) - 1 - nodes.steps[7] - (W - 1);
+    const long start = place < last ? place : last;
+    MPMICE_PRAGMA_SIMD
+    for (long w = 0; w < W; ++w) {
+      const auto field = [&](int to, const ConstNodeArray& values) {
+        double node[8];
+        for (int i = 0; i < 8; ++i) node[i] = values(start + w + nodes.steps[i]);
+        trilinear::coefficients<W>(node, &f.c[to][0][w]);
+      };
+      for (int d = 0; d < 3; ++d) {
+        field(d, v_node[d]);
+        field(3 + d, a_node[d]);
       }
-      f.a2 = Trilinear::of(a2);
+      if (Heat) field(6, t_node);
+      if (Transfer) {
+        field(7, q_node);
+        double a2[8];
+        for (int i = 0; i < 8; ++i) {
+          const long at = start + w + nodes.steps[i];
+          const double ax = a_node[0](at), ay = a_node[1](at), az = a_node[2](at);
+          a2[i] = ax * ax + ay * ay + az * az;
+        }
+        trilinear::coefficients<W>(a2, &f.c[8][0][w]);
+      }
     }
-    return f;
+    return start;
   }
 
-  /// The sums of a particle at r (cell units) in the cell of `f`: the interpolants'
-  /// values, and L from v*'s slopes.
-  KOKKOS_FORCEINLINE_FUNCTION void sum_in_cell(const CellFields& f, const double* r, GatheredSums& s) const {
-    for (int d = 0; d < 3; ++d) {
-      double slope[3];
-      s.v[d] = f.v[d].value_and_slopes(r[0], r[1], r[2], slope);
-      for (int e = 0; e < 3; ++e) s.L(d, e) = slope[e] * grid.inv_h[e];
-      s.a[d] = f.a[d].value(r[0], r[1], r[2]);
-    }
-    if (Heat) s.t = f.t.value(r[0], r[1], r[2]);
-    if (Transfer) {
-      s.q = f.q.value(r[0], r[1], r[2]);
-      s.a2 = f.a2.value(r[0], r[1], r[2]);
-    }
-  }
-
-  /// Particle p of the linear shape with the fields of its cell, `f` (particles sorted by
-  /// cell share them: reduce_over_cell_runs). Returns as operator().
-  KOKKOS_FORCEINLINE_FUNCTION double in_cell(long p, const CellFields& f) const {
+  /// Particle p of the linear shape in cell w of `f`, its own (particles sorted by cell
+  /// share them: reduce_over_cell_runs). Its sums are the interpolants' values and L
+  /// v*'s slopes; returns as operator().
+  template <int W>
+  KOKKOS_FORCEINLINE_FUNCTION double in_cell(long p, const CellFields<W>& f, long w) const {
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const double r[3] = {wt.w[0][1], wt.w[1][1], wt.w[2][1]};  // w = (1 - r, r): LinearShape
+    const auto at = [&](const double* c) { return trilinear::value<W>(c, r[0], r[1], r[2]); };
     GatheredSums s;
-    sum_in_cell(f, r, s);
+    for (int d = 0; d < 3; ++d) {
+      double slope[3];
+      s.v[d] = trilinear::value<W>(&f.c[d][0][w], r[0], r[1], r[2], slope);
+      for (int e = 0; e < 3; ++e) s.L(d, e) = slope[e] * grid.inv_h[e];
+      s.a[d] = at(&f.c[3 + d][0][w]);
+    }
+    if (Heat) s.t = at(&f.c[6][0][w]);
+    if (Transfer) {
+      s.q = at(&f.c[7][0][w]);
+      s.a2 = at(&f.c[8][0][w]);
+    }
     return update(p, x, s);
   }
 
   /// Particle p of the linear shape with the fields of its own cell.
-  KOKKOS_FORCEINLINE_FUNCTION double own_cell(long p) const { return in_cell(p, cell_fields(first(p))); }
+  KOKKOS_FORCEINLINE_FUNCTION double own_cell(long p) const {
+    CellFields<1> f;
+    cell_fields(first(p), f);
+    return in_cell(p, f, 0);
+  }
 
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {

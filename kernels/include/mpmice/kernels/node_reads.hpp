@@ -177,22 +177,31 @@ namespace detail {
 #if !defined(MPMICE_DEVICE_BACKEND)
 /// Particles per vector block of `reduce_over_cell_runs`: four doubles, a 256-bit vector.
 constexpr long cell_block = 4;
+/// Cells whose node values `reduce_over_cell_runs` takes at once: consecutive cells along
+/// k, in one vector loop (their nodes' values are neighbours in memory).
+constexpr int cell_batch = 4;
 
-/// One run [lo, hi) of `reduce_over_cell_runs`, flattened (loops.hpp): the particles of
-/// each cell in blocks of cell_block as one vector loop of known length (a loop over a
-/// cell's few particles, of a length known only at run time, GCC ran scalar), the rest
-/// one by one. Both take the cell's fields once, in the same arithmetic.
+/// One run [lo, hi) of `reduce_over_cell_runs`, flattened (loops.hpp): for each run of
+/// one cell's particles its fields, from a batch of cell_batch cells formed when the
+/// cell is not in the last one, and the particles in blocks of cell_block and then 2
+/// as vector loops of known length (a loop over a cell's few particles, of a length
+/// known only at run time, GCC ran scalar), the last one alone. Every particle gets the
+/// same arithmetic.
 template <Reduction R, class Body>
 MPMICE_FLATTEN MPMICE_WIDE_VECTORS double cell_run_reduce(const Body& particle_body, long lo, long hi) {
   const Body body = particle_body;  // its own copy, as simd_run_reduce
+  typename Body::template CellFields<cell_batch> batch;
+  long batch_start = -1;  // none yet
   double acc = 0;
   long p = lo;
   while (p < hi) {
     const long place = body.first(p);
     long end = p + 1;
     while (end < hi && body.first(end) == place) ++end;
-    const auto fields = body.cell_fields(place);
-    const auto in_cell = [&](long q) { return body.in_cell(q, fields); };
+    if (batch_start < 0 || place < batch_start || place >= batch_start + cell_batch)
+      batch_start = body.cell_fields(place, batch);
+    const long w = place - batch_start;
+    const auto in_cell = [&](long q) { return body.in_cell(q, batch, w); };
     for (; p + cell_block <= end; p += cell_block) combine<R>(acc, simd_run_reduce<R>(in_cell, p, p + cell_block));
     if (p + 2 <= end) {
       combine<R>(acc, simd_run_reduce<R>(in_cell, p, p + 2));
@@ -206,17 +215,22 @@ MPMICE_FLATTEN MPMICE_WIDE_VECTORS double cell_run_reduce(const Body& particle_b
 }  // namespace detail
 
 /// Like `reduce_over_particles`, for particles whose node values are the same for every
-/// particle of a cell (the linear shape), sorted by cell (particle_sort.hpp): `body.first(p)`
-/// gives the place of particle p's cell, `body.cell_fields(place)` what its particles
-/// read of the nodes, and `body.in_cell(p, fields)` particle p's value. On the host a
-/// run of consecutive particles of one cell takes the fields once and goes as vector
-/// loops (detail::cell_run_reduce); unsorted particles are runs of one. On a GPU every
-/// particle takes its own (the same values).
+/// particle of a cell (the linear shape), sorted by cell (particle_sort.hpp):
+/// `body.first(p)` gives the place of particle p's cell, `body.cell_fields(place, f)`
+/// puts what the particles of W cells from `place` read of the nodes into a
+/// `Body::CellFields<W>` and returns where the W start (`place`, or lower near the end
+/// of the node arrays), and `body.in_cell(p, f, w)` is particle p's value, in cell w of
+/// f. On the host a run of consecutive particles of one cell takes its fields once and
+/// goes as vector loops (detail::cell_run_reduce); unsorted particles are runs of one.
+/// On a GPU every particle takes its own cell's (W = 1; the same values).
 template <Reduction R, class Body>
 double reduce_over_cell_runs(const std::string& label, long count, const Body& body) {
 #if defined(MPMICE_DEVICE_BACKEND)
-  return reduce_over_particles<R>(label, count,
-                                  KOKKOS_LAMBDA(long p) { return body.in_cell(p, body.cell_fields(body.first(p))); });
+  return reduce_over_particles<R>(label, count, KOKKOS_LAMBDA(long p) {
+    typename Body::template CellFields<1> fields;
+    body.cell_fields(body.first(p), fields);
+    return body.in_cell(p, fields, 0);
+  });
 #else
   return detail::reduce_runs<R>(label, Kokkos::RangePolicy<ExecSpace>(0, detail::particle_runs(count)), [=](long r) {
     return detail::cell_run_reduce<R>(body, r * detail::particle_run, detail::particle_run_end(r, count));
