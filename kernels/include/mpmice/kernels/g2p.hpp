@@ -252,7 +252,7 @@ struct G2pParticle {
 
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION double operator()(long p, const Read& read) const {
-    static_assert(Shape::nodes == 3, "the linear shape's particles: in_cell");
+    static_assert(Shape::nodes == 3, "GIMP: the linear shape's particles take in_cell");
     double x[3], half[3];
     particle_position(data, p, x, half);
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
@@ -302,21 +302,22 @@ struct G2pParticle {
   }
 };
 
-/// Whether g2p reads GIMP's node values in groups. Groups of 8 particles in at most three
-/// windows of nodes read the values once for the group instead of gathering them
+/// Whether g2p reads GIMP's node values in groups. Groups of 8 particles in at most
+/// three windows of nodes read the values once for the group instead of gathering them
 /// particle by particle (reduce_over_particle_groups): 1.5-2.2x with linear weights on
 /// an AVX-512 machine (docs/performance.md, sessions 19, 20 and 26; the linear shape
-/// now reads by cell, session 37). Where the loops'
-/// vectors are wider than the compiler's own choice (loops.hpp, MPMICE_WIDE_VECTORS: GCC
-/// tuning for AMD Zen 1), every particle gathers its own instead: on AMD Zen 1 that
-/// was 1.3-1.6x the groups in the narrower vectors, and 0.96x the groups in wide ones,
-/// which GCC 12 compiled 4x (linear weights) to 10x (GIMP) more slowly (session 32).
+/// now reads by cell, session 37). Where the loops' vectors are wider than the
+/// compiler's own choice (loops.hpp, MPMICE_WIDE_VECTORS: GCC tuning for AMD Zen 1),
+/// every particle gathers its own instead: on AMD Zen 1 that was 1.3-1.6x the groups in
+/// the narrower vectors, and 0.96x the groups in wide ones, which GCC 12 compiled 4x
+/// (linear weights) to 10x (GIMP) more slowly (session 32).
 constexpr bool g2p_reads_in_groups = !wide_vectors_are_wider;
 
 /// (E35, E36) for the particles of a material that deforms (G2pParticle), their node
 /// values read for many particles at once (`in_groups`: the linear shape's cells,
 /// reduce_over_cell_runs; GIMP's groups, reduce_over_particle_groups) or particle by
-/// particle (the tests compare the two: the same values, bit for bit). Returns 1 if a particle's deformation needs more than one sub-step, else 0.
+/// particle (the tests compare the two: the same values, bit for bit). Returns 1 if a
+/// particle's deformation needs more than one sub-step, else 0.
 template <class Shape, bool Heat, bool Transfer>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,

@@ -60,8 +60,9 @@ KOKKOS_INLINE_FUNCTION long window_place(const NodeStencil<Nodes>& nodes, const 
 /// it, instead of a gather), and the particle's is selected. A GIMP node of zero weight
 /// (its far nodes) is read where ReadOwnNodes reads the particle's middle node, and,
 /// its value finite, adds nothing either way (with an infinite or NaN value there the
-/// particle would get NaN). Every window must lie in the node arrays (window_place: checked for GIMP, true for a linear
-/// particle in the patch or its ghost cells). Host only (reduce_over_particle_groups).
+/// particle would get NaN). Every window must lie in the node arrays (window_place:
+/// checked for GIMP, true for a linear particle in the patch or its ghost cells). Host
+/// only (reduce_over_particle_groups).
 template <int Windows>
 struct ReadWindows {
   Kokkos::Array<long, Windows> first;
