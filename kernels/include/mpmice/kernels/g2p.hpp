@@ -194,25 +194,25 @@ struct G2pParticle {
     const long start = place < last ? place : last;
     MPMICE_PRAGMA_SIMD
     for (long w = 0; w < W; ++w) {
-      const auto field = [&](int to, const ConstNodeArray& values) {
-        double node[8];
+      const auto load = [&](const ConstNodeArray& values, double* node) {
         for (int i = 0; i < 8; ++i) node[i] = values(start + w + nodes.steps[i]);
-        trilinear::coefficients<W>(node, &f.c[to][0][w]);
       };
+      double node[8], acc[3][8];  // acc: the accelerations, also for |a_i|^2
       for (int d = 0; d < 3; ++d) {
-        field(d, v_node[d]);
-        field(3 + d, a_node[d]);
+        load(v_node[d], node);
+        trilinear::coefficients<W>(node, &f.c[d][0][w]);
+        load(a_node[d], acc[d]);
+        trilinear::coefficients<W>(acc[d], &f.c[3 + d][0][w]);
       }
-      if (Heat) field(6, t_node);
+      if (Heat) {
+        load(t_node, node);
+        trilinear::coefficients<W>(node, &f.c[6][0][w]);
+      }
       if (Transfer) {
-        field(7, q_node);
-        double a2[8];
-        for (int i = 0; i < 8; ++i) {
-          const long at = start + w + nodes.steps[i];
-          const double ax = a_node[0](at), ay = a_node[1](at), az = a_node[2](at);
-          a2[i] = ax * ax + ay * ay + az * az;
-        }
-        trilinear::coefficients<W>(a2, &f.c[8][0][w]);
+        load(q_node, node);
+        trilinear::coefficients<W>(node, &f.c[7][0][w]);
+        for (int i = 0; i < 8; ++i) node[i] = acc[0][i] * acc[0][i] + acc[1][i] * acc[1][i] + acc[2][i] * acc[2][i];
+        trilinear::coefficients<W>(node, &f.c[8][0][w]);
       }
     }
     return start;

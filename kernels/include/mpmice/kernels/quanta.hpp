@@ -81,7 +81,7 @@ struct Quantum {
 };
 
 /// F quanta part by part (a structure of arrays), so that a loop over them is a vector
-/// loop: `round(f, x)` is q[f].round(x) bit for bit.
+/// loop: `whole_units(f, x)` is q[f].whole_units(x) bit for bit.
 template <int F>
 struct QuantumArray {
   Kokkos::Array<double, F> scale, magic, unit;
@@ -91,11 +91,6 @@ struct QuantumArray {
       magic[f] = q[f].magic;
       unit[f] = q[f].unit;
     }
-  }
-  KOKKOS_FORCEINLINE_FUNCTION double round(int f, double x) const { return unit[f] * in_units(f, x); }
-  /// q[f].in_units(x) bit for bit.
-  KOKKOS_FORCEINLINE_FUNCTION double in_units(int f, double x) const {
-    return Quantum::nearest_whole(x * scale[f], magic[f]);
   }
   /// q[f].whole_units(x_in_units) bit for bit.
   KOKKOS_FORCEINLINE_FUNCTION double whole_units(int f, double x_in_units) const {
