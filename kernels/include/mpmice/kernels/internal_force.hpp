@@ -71,30 +71,44 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 /// within an ulp of half a quantum can round to the other neighbour (one contribution
 /// in a 300-step container run with linear shapes). Without quanta the sums' order
 /// differs too (a node gets given - f, not -f then + given), so they change at
-/// round-off. Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
-template <class Shape>
+/// round-off. With `Counted` (a quantum, as in the driver) the run sums the forces'
+/// units as integers (UnitCount, as p2g_cell_runs: 1.0-1.2x on 1 thread,
+/// docs/performance.md, session 38), else as doubles; the same sums either way.
+/// Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
+template <class Shape, bool Counted>
 void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
                               const Quantum& quantum, const Quantum& mass_quantum) {
   constexpr int N = 8;
+  using Sum = std::conditional_t<Counted, std::uint64_t, double>;
   scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
-    double units[3][N] = {};
+    // The run's sums of minus the forces, in units; counted: of the bits of t = x +
+    // magic, so that the sum of k particles' is -(force) + k magic (UnitCount).
+    Sum minus[3][N] = {};
+    std::uint64_t added = 0;  // particles in the run so far
     // Adds the run's sums into its nodes and zeroes them.
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
         const long row = run_first + rows.steps[a];
-        for (int d = 0; d < 3; ++d) node(row, d) += units[d][a];
+        for (int d = 0; d < 3; ++d) {
+          if constexpr (Counted)
+            node(row, d) -= UnitCount::total(minus[d][a], added);
+          else
+            node(row, d) -= minus[d][a];
+        }
       });
       for (int d = 0; d < 3; ++d)
-        for (int a = 0; a < N; ++a) units[d][a] = 0.0;
+        for (int a = 0; a < N; ++a) minus[d][a] = 0;
+      added = 0;
     };
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       const Mat3 stress = force_stress(data, p);
       const double vol_units = data(p, column(ParticleField::volume)) * quantum.scale;  // as each_particle
       const double mp = data(p, column(ParticleField::mass));
-      // The forces in quanta, vectorised over the nodes (a NodeOffset index and doubles
-      // for the choices, as in p2g_cell_runs), and their sum; a node left out gets none.
+      // The forces in quanta, t = x + magic, vectorised over the nodes (a NodeOffset
+      // index and doubles for the choices, as in p2g_cell_runs); a node left out gets
+      // x = 0.
       double kept_weight[N], force[3][N];
       MPMICE_PRAGMA_SIMD
       for (NodeOffset a = 0; a < N; ++a) {
@@ -102,35 +116,62 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         double gx, gy, gz;
         linear_node_gradient(wt, a, gx, gy, gz);
         const double kept = mass_quantum.in_units(S * mp) + mass_quantum.unrounded;
-        const double f0 = quantum.whole_units(vol_units * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz));
-        const double f1 = quantum.whole_units(vol_units * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz));
-        const double f2 = quantum.whole_units(vol_units * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz));
+        const double f0 = vol_units * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz);
+        const double f1 = vol_units * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz);
+        const double f2 = vol_units * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz);
         kept_weight[a] = kept != 0.0 ? S : 0.0;
-        force[0][a] = kept != 0.0 ? f0 : 0.0;
-        force[1][a] = kept != 0.0 ? f1 : 0.0;
-        force[2][a] = kept != 0.0 ? f2 : 0.0;
+        const double t0 = (kept != 0.0 ? f0 : 0.0) + quantum.magic;
+        const double t1 = (kept != 0.0 ? f1 : 0.0) + quantum.magic;
+        const double t2 = (kept != 0.0 ? f2 : 0.0) + quantum.magic;
+        force[0][a] = Counted ? t0 : t0 - quantum.magic;
+        force[1][a] = Counted ? t1 : t1 - quantum.magic;
+        force[2][a] = Counted ? t2 : t2 - quantum.magic;
       }
+      // Counted: t's bits; else the whole number t - magic.
+      const auto units = [&](double x) {
+        if constexpr (Counted)
+          return UnitCount::bits(x);
+        else
+          return x;
+      };
       // The particle's forces sum to zero: its kept node of largest weight, the first
       // in the nodes' order, also gets the sum of all (internal_force_each_particle).
       long heaviest = -1;
-      double largest = 0, given0 = 0, given1 = 0, given2 = 0;
+      double largest = 0;
+      Sum given0 = 0, given1 = 0, given2 = 0;
       unrolled_for<N>([&](int a) {
         // Arithmetic, not selects: GCC made the selects branches, which mispredict.
         const long larger = kept_weight[a] > largest;
         heaviest += larger * (a - heaviest);
         largest = kept_weight[a] > largest ? kept_weight[a] : largest;
-        given0 += force[0][a];
-        given1 += force[1][a];
-        given2 += force[2][a];
+        given0 += units(force[0][a]);
+        given1 += units(force[1][a]);
+        given2 += units(force[2][a]);
       });
+      if constexpr (Counted) {  // counted: the sums of N bit patterns, less N magic numbers
+        given0 -= N * UnitCount::magic_bits;
+        given1 -= N * UnitCount::magic_bits;
+        given2 -= N * UnitCount::magic_bits;
+      }
       // Added as a vector loop too: a store to one node of the run's sums, read back as
       // a vector, stalls (no store forwarding).
-      MPMICE_PRAGMA_SIMD
-      for (long a = 0; a < N; ++a) {
-        units[0][a] += (a == heaviest ? given0 : 0.0) - force[0][a];
-        units[1][a] += (a == heaviest ? given1 : 0.0) - force[1][a];
-        units[2][a] += (a == heaviest ? given2 : 0.0) - force[2][a];
+      if constexpr (Counted) {
+        MPMICE_PRAGMA_SIMD
+        for (long a = 0; a < N; ++a) {
+          const std::uint64_t here = std::uint64_t(0) - std::uint64_t(a == heaviest);
+          minus[0][a] += UnitCount::bits(force[0][a]) - (given0 & here);
+          minus[1][a] += UnitCount::bits(force[1][a]) - (given1 & here);
+          minus[2][a] += UnitCount::bits(force[2][a]) - (given2 & here);
+        }
+      } else {
+        MPMICE_PRAGMA_SIMD
+        for (long a = 0; a < N; ++a) {
+          minus[0][a] += force[0][a] - (a == heaviest ? given0 : 0.0);
+          minus[1][a] += force[1][a] - (a == heaviest ? given1 : 0.0);
+          minus[2][a] += force[2][a] - (a == heaviest ? given2 : 0.0);
+        }
       }
+      ++added;
     };
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
@@ -161,9 +202,12 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
   const Quantum quantum(q.internal_force), mass_quantum(q.mass);
   const NodeStencil<n> rows = block_stencil<n>(fint[0]);
   const NodeScatter& scatter = scratch.zeroed("mpmice::internal_force", fint[0], 3);
-  if constexpr (n == 2)
-    detail::internal_force_cell_runs<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
-  else
+  if constexpr (n == 2) {
+    if (quantum.q > 0)
+      detail::internal_force_cell_runs<Shape, true>(grid, count, data, scatter, rows, quantum, mass_quantum);
+    else
+      detail::internal_force_cell_runs<Shape, false>(grid, count, data, scatter, rows, quantum, mass_quantum);
+  } else
     detail::internal_force_each_particle<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
   detail::add_force_scatter_into(scatter, fint, m, quantum);
 }

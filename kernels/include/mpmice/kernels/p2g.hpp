@@ -4,6 +4,9 @@
 ///        (E12), and the node velocity and temperature from them.
 ///
 /// Particles add into the nodes through a NodeScatter (node_scatter.hpp).
+#include <cstdint>
+#include <type_traits>
+
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/node_scatter.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
@@ -146,18 +149,31 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const Node
 /// row of the scatter), and adds the sums into the scatter once per node, again 8
 /// fields at once (8 particles per cell: 1/8 of the adds). A node
 /// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
-/// run counts each contribution in its quantum (Quantum::in_units: 2 vector operations,
-/// against 3 for the rounded value), as the scatter holds them (add_scatter_into). The
-/// sums' order differs from p2g_each_particle's: without quanta a node's value changes
-/// at round-off; with quanta, as in the driver, not at all.
-template <class Shape>
+/// run counts each contribution in its quantum, as the scatter holds them
+/// (add_scatter_into): with `Counted` (every field after the mass has a quantum, as in
+/// the driver) in 64-bit integers, the bits of x + magic added (UnitCount: 1.1-1.4x
+/// against the rounded doubles on 1 thread, docs/performance.md, session 38), else as
+/// the doubles (x + magic) - magic. The sums' order differs from p2g_each_particle's:
+/// without quanta a node's value changes at round-off; with quanta, as in the driver,
+/// not at all.
+template <class Shape, bool Counted>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
+  using Sum = std::conditional_t<Counted, std::uint64_t, double>;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
-    double mass_units[N] = {}, units[N][F - 1] = {};
+    double mass_units[N] = {};
+    Sum units[N][F - 1] = {};
+    std::uint64_t added = 0;  // particles in the run so far
+    // The sum of a field's units as a double (exact: below 2^53).
+    const auto total = [&](Sum sum) {
+      if constexpr (Counted)
+        return UnitCount::total(sum, added);
+      else
+        return sum;
+    };
     // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
@@ -165,11 +181,12 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
           const long row = run_first + rows.steps[a];
           node(row, 0) += mass_units[a];
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += units[a][f - 1];
+          for (int f = 1; f < F; ++f) node(row, f) += total(units[a][f - 1]);
         }
         mass_units[a] = 0.0;
-        for (int f = 0; f < F - 1; ++f) units[a][f] = 0.0;
+        for (int f = 0; f < F - 1; ++f) units[a][f] = 0;
       });
+      added = 0;
     };
     const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
       double value[F];
@@ -188,10 +205,18 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
         kept[a] = mass != 0.0 ? S : 0.0;
         mass_units[a] += mass;
       }
+      // A node left out adds x = 0: the magic number alone, counted as 0.
       unrolled_for<N>([&](int a) {
         MPMICE_PRAGMA_SIMD
-        for (int f = 1; f < F; ++f) units[a][f - 1] += quanta.whole_units(f, kept[a] * value[f]);
+        for (int f = 1; f < F; ++f) {
+          const double t = kept[a] * value[f] + quanta.magic[f];
+          if constexpr (Counted)
+            units[a][f - 1] += UnitCount::bits(t);
+          else
+            units[a][f - 1] += t - quanta.magic[f];
+        }
       });
+      ++added;
     };
     over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
   });
@@ -219,9 +244,12 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
   const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, detail::p2g_fields);
   const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
   const Kokkos::Array<Quantum, detail::p2g_fields> quantum = detail::p2g_quanta(q);
-  if constexpr (Shape::nodes == 2)
-    detail::p2g_cell_runs<Shape>(grid, count, data, scatter, rows, quantum);
-  else
+  if constexpr (Shape::nodes == 2) {
+    if (QuantumArray<detail::p2g_fields>(quantum).counted_from(1))
+      detail::p2g_cell_runs<Shape, true>(grid, count, data, scatter, rows, quantum);
+    else
+      detail::p2g_cell_runs<Shape, false>(grid, count, data, scatter, rows, quantum);
+  } else
     detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, quantum);
   detail::add_p2g_scatter_into(scatter, sums, m, quantum);
 }

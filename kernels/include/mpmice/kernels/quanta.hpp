@@ -9,6 +9,8 @@
 ///        answer to round-off of the diagnostics only. The rounding changes each
 ///        contribution by at most 2^-41 of the largest one.
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include <mpmice/kernels/math.hpp>
 
@@ -80,6 +82,28 @@ struct Quantum {
   }
 };
 
+/// Whole units counted in integers. With q > 0, t = x_in_units + magic is a double
+/// between 2^52 and 2^53 (for |x_in_units| <= 2^51), where doubles are a unit apart: t's
+/// bits are the magic number's bits plus the whole number x rounds to. A sum of k such
+/// bit patterns in 64-bit integers (wrapping) is therefore k times the magic number's
+/// bits plus the exact sum of the whole numbers: one integer add per contribution in
+/// place of the rounding's subtraction and a floating-point add. `total` gives the sum
+/// back as a double (exact below 2^53). Needs q > 0: with no quantum the magic number
+/// is 0 and t is x itself, not a count.
+struct UnitCount {
+  static constexpr std::uint64_t magic_bits = 0x4338000000000000ull;  ///< the bits of 1.5 2^52
+  /// The bits of t = x_in_units + magic, to be added as integers.
+  KOKKOS_FORCEINLINE_FUNCTION static std::uint64_t bits(double t) {
+    std::uint64_t b;
+    std::memcpy(&b, &t, sizeof b);
+    return b;
+  }
+  /// The whole number that `terms` added `bits` sum to.
+  KOKKOS_FORCEINLINE_FUNCTION static double total(std::uint64_t sum, std::uint64_t terms) {
+    return double(std::int64_t(sum - terms * magic_bits));
+  }
+};
+
 /// F quanta part by part (a structure of arrays), so that a loop over them is a vector
 /// loop: `whole_units(f, x)` is q[f].whole_units(x) bit for bit.
 template <int F>
@@ -96,6 +120,13 @@ struct QuantumArray {
   KOKKOS_FORCEINLINE_FUNCTION double whole_units(int f, double x_in_units) const {
     return Quantum::nearest_whole(x_in_units, magic[f]);
   }
+  /// Whether every part from `first` on has a quantum, so that their units can be
+  /// counted in integers (UnitCount).
+  bool counted_from(int first) const {
+    for (int f = first; f < F; ++f)
+      if (magic[f] == 0.0) return false;
+    return true;
+  }
 };
 
 /// x rounded to the nearest multiple of q (x itself if q = 0). The reciprocal is the
@@ -105,15 +136,18 @@ struct QuantumArray {
 KOKKOS_INLINE_FUNCTION double on_grid(double x, double q) { return Quantum(q).round(x); }
 
 /// The power of two 2^(e - 40) with 2^e <= bound < 2^(e+1): contributions up to `bound`
-/// become integers below 2^41 times it; 0 for a bound that is not positive.
+/// become integers below 2^41 times it. A bound of 0 (every contribution 0, which any
+/// quantum keeps as 0) gets 1, so that the kernels count its units in integers as the
+/// others' (UnitCount; with 0 they would take their path for unrounded sums, which gives
+/// the same zeros more slowly). 0, no rounding, for a negative or non-finite bound.
 inline double quantum_for(double bound) {
+  if (bound == 0.0) return 1.0;
   if (!(bound > 0) || !std::isfinite(bound)) return 0.0;
   return std::ldexp(1.0, std::ilogb(bound) - 40);
 }
 
 /// The quanta of contributions bounded by `largest` (each kind's largest contribution,
-/// e.g. particle_scatter_bounds after a global max): quantum_for of each, 0 where the
-/// bound is 0.
+/// e.g. particle_scatter_bounds after a global max): quantum_for of each.
 inline SumQuanta quanta_for(const SumQuanta& largest) {
   SumQuanta q;
   q.mass = quantum_for(largest.mass);
