@@ -80,7 +80,8 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
                               const Quantum& quantum, const Quantum& mass_quantum) {
   constexpr int N = 8;
-  using Sum = std::conditional_t<Counted, std::uint64_t, double>;
+  using Sums = UnitSums<Counted>;
+  using Sum = typename Sums::Sum;
   scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
     // The run's sums of minus the forces, in units; counted: of the bits of t = x +
@@ -91,12 +92,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
         const long row = run_first + rows.steps[a];
-        for (int d = 0; d < 3; ++d) {
-          if constexpr (Counted)
-            node(row, d) -= UnitCount::total(minus[d][a], added);
-          else
-            node(row, d) -= minus[d][a];
-        }
+        for (int d = 0; d < 3; ++d) node(row, d) -= Sums::total(minus[d][a], added);
       });
       for (int d = 0; d < 3; ++d)
         for (int a = 0; a < N; ++a) minus[d][a] = 0;
@@ -120,20 +116,11 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         const double f1 = vol_units * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz);
         const double f2 = vol_units * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz);
         kept_weight[a] = kept != 0.0 ? S : 0.0;
-        const double t0 = (kept != 0.0 ? f0 : 0.0) + quantum.magic;
-        const double t1 = (kept != 0.0 ? f1 : 0.0) + quantum.magic;
-        const double t2 = (kept != 0.0 ? f2 : 0.0) + quantum.magic;
-        force[0][a] = Counted ? t0 : t0 - quantum.magic;
-        force[1][a] = Counted ? t1 : t1 - quantum.magic;
-        force[2][a] = Counted ? t2 : t2 - quantum.magic;
+        force[0][a] = (kept != 0.0 ? f0 : 0.0) + quantum.magic;
+        force[1][a] = (kept != 0.0 ? f1 : 0.0) + quantum.magic;
+        force[2][a] = (kept != 0.0 ? f2 : 0.0) + quantum.magic;
       }
-      // Counted: t's bits; else the whole number t - magic.
-      const auto units = [&](double x) {
-        if constexpr (Counted)
-          return UnitCount::bits(x);
-        else
-          return x;
-      };
+      const auto term = [&](double t) { return Sums::term(t, quantum.magic); };
       // The particle's forces sum to zero: its kept node of largest weight, the first
       // in the nodes' order, also gets the sum of all (internal_force_each_particle).
       long heaviest = -1;
@@ -144,32 +131,20 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         const long larger = kept_weight[a] > largest;
         heaviest += larger * (a - heaviest);
         largest = kept_weight[a] > largest ? kept_weight[a] : largest;
-        given0 += units(force[0][a]);
-        given1 += units(force[1][a]);
-        given2 += units(force[2][a]);
+        given0 += term(force[0][a]);
+        given1 += term(force[1][a]);
+        given2 += term(force[2][a]);
       });
-      if constexpr (Counted) {  // counted: the sums of N bit patterns, less N magic numbers
-        given0 -= N * UnitCount::magic_bits;
-        given1 -= N * UnitCount::magic_bits;
-        given2 -= N * UnitCount::magic_bits;
-      }
+      given0 = Sums::count(given0, N);
+      given1 = Sums::count(given1, N);
+      given2 = Sums::count(given2, N);
       // Added as a vector loop too: a store to one node of the run's sums, read back as
       // a vector, stalls (no store forwarding).
-      if constexpr (Counted) {
-        MPMICE_PRAGMA_SIMD
-        for (long a = 0; a < N; ++a) {
-          const std::uint64_t here = std::uint64_t(0) - std::uint64_t(a == heaviest);
-          minus[0][a] += UnitCount::bits(force[0][a]) - (given0 & here);
-          minus[1][a] += UnitCount::bits(force[1][a]) - (given1 & here);
-          minus[2][a] += UnitCount::bits(force[2][a]) - (given2 & here);
-        }
-      } else {
-        MPMICE_PRAGMA_SIMD
-        for (long a = 0; a < N; ++a) {
-          minus[0][a] += force[0][a] - (a == heaviest ? given0 : 0.0);
-          minus[1][a] += force[1][a] - (a == heaviest ? given1 : 0.0);
-          minus[2][a] += force[2][a] - (a == heaviest ? given2 : 0.0);
-        }
+      MPMICE_PRAGMA_SIMD
+      for (long a = 0; a < N; ++a) {
+        minus[0][a] += term(force[0][a]) - Sums::only_where(a == heaviest, given0);
+        minus[1][a] += term(force[1][a]) - Sums::only_where(a == heaviest, given1);
+        minus[2][a] += term(force[2][a]) - Sums::only_where(a == heaviest, given2);
       }
       ++added;
     };

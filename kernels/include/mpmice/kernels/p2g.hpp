@@ -4,9 +4,6 @@
 ///        (E12), and the node velocity and temperature from them.
 ///
 /// Particles add into the nodes through a NodeScatter (node_scatter.hpp).
-#include <cstdint>
-#include <type_traits>
-
 #include <mpmice/kernels/loops.hpp>
 #include <mpmice/kernels/node_scatter.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
@@ -160,20 +157,13 @@ template <class Shape, bool Counted>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
-  using Sum = std::conditional_t<Counted, std::uint64_t, double>;
+  using Sums = UnitSums<Counted>;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
     double mass_units[N] = {};
-    Sum units[N][F - 1] = {};
+    typename Sums::Sum units[N][F - 1] = {};
     std::uint64_t added = 0;  // particles in the run so far
-    // The sum of a field's units as a double (exact: below 2^53).
-    const auto total = [&](Sum sum) {
-      if constexpr (Counted)
-        return UnitCount::total(sum, added);
-      else
-        return sum;
-    };
     // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&](long run_first) {
       unrolled_for<N>([&](int a) {
@@ -181,7 +171,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
           const long row = run_first + rows.steps[a];
           node(row, 0) += mass_units[a];
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += total(units[a][f - 1]);
+          for (int f = 1; f < F; ++f) node(row, f) += Sums::total(units[a][f - 1], added);
         }
         mass_units[a] = 0.0;
         for (int f = 0; f < F - 1; ++f) units[a][f] = 0;
@@ -208,13 +198,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       // A node left out adds x = 0: the magic number alone, counted as 0.
       unrolled_for<N>([&](int a) {
         MPMICE_PRAGMA_SIMD
-        for (int f = 1; f < F; ++f) {
-          const double t = kept[a] * value[f] + quanta.magic[f];
-          if constexpr (Counted)
-            units[a][f - 1] += UnitCount::bits(t);
-          else
-            units[a][f - 1] += t - quanta.magic[f];
-        }
+        for (int f = 1; f < F; ++f) units[a][f - 1] += Sums::term(kept[a] * value[f] + quanta.magic[f], quanta.magic[f]);
       });
       ++added;
     };

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include <mpmice/kernels/math.hpp>
 
@@ -101,6 +102,44 @@ struct UnitCount {
   /// The whole number that `terms` added `bits` sum to.
   KOKKOS_FORCEINLINE_FUNCTION static double total(std::uint64_t sum, std::uint64_t terms) {
     return double(std::int64_t(sum - terms * magic_bits));
+  }
+};
+
+/// How a loop adds contributions counted in units, each given as t = x_in_units + magic:
+/// `Counted` (every quantum it sums positive) as t's bits in 64-bit integers
+/// (UnitCount), else as the doubles t - magic (as Quantum::nearest_whole). The same sums
+/// either way; p2g's and internal_force's cell runs take one or the other.
+template <bool Counted>
+struct UnitSums {
+  using Sum = std::conditional_t<Counted, std::uint64_t, double>;
+  /// What t adds to a sum.
+  KOKKOS_FORCEINLINE_FUNCTION static Sum term(double t, double magic) {
+    if constexpr (Counted)
+      return UnitCount::bits(t);
+    else
+      return t - magic;
+  }
+  /// The count that `terms` added `term`s sum to, as a Sum.
+  KOKKOS_FORCEINLINE_FUNCTION static Sum count(Sum sum, std::uint64_t terms) {
+    if constexpr (Counted)
+      return sum - terms * UnitCount::magic_bits;
+    else
+      return sum;
+  }
+  /// The same as a double (exact below 2^53).
+  KOKKOS_FORCEINLINE_FUNCTION static double total(Sum sum, std::uint64_t terms) {
+    if constexpr (Counted)
+      return UnitCount::total(sum, terms);
+    else
+      return sum;
+  }
+  /// `sum` where `here`, else 0, without a branch: integers as a mask (with a select
+  /// GCC 12 left internal_force's loop over the nodes scalar), doubles as a select.
+  KOKKOS_FORCEINLINE_FUNCTION static Sum only_where(bool here, Sum sum) {
+    if constexpr (Counted)
+      return sum & (std::uint64_t(0) - std::uint64_t(here));
+    else
+      return here ? sum : 0.0;
   }
 };
 
