@@ -3,6 +3,8 @@
 // counted per material unless said):
 //  equilibrate_pressure: reads rho, T, v (3), p (shared, 1); writes theta, v, c,
 //                        kappa (4), p_eq, SK, TMV (shared, 3)             -> 56 N + 32
+//                        (the same with solids among the gases: the Newton
+//                        iteration, as every MPMICE problem takes it)
 //  face_velocity (x):    reads rho, v, u per cell (3), p (shared); writes U^f (1)
 //                        per face (each cell's values are read once)        -> 32 N + 8
 //  face_exchange (x):    reads theta, v per cell (2), U^f per face (1); writes
@@ -40,6 +42,13 @@ using namespace mpmice::bench;
 
 namespace {
 
+/// 16^3 to 128^3 cells with a gas and a solid, or two of each.
+void solid_cell_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"cells", "mats"});
+  for (int n : {16, 32, 64, 128})
+    for (int m : {2, 4}) b->Args({n, m});
+}
+
 void BM_equilibrate_pressure(benchmark::State& state) {
   const int n = int(state.range(0)), mats = int(state.range(1));
   const Patch p = cube_patch(n);
@@ -54,6 +63,75 @@ void BM_equilibrate_pressure(benchmark::State& state) {
   const EquilibrationIn in{rho, temp, v, press};
   for (auto _ : state)
     state.SetIterationTime(timed([&] { equilibrate_pressure(p.owned_cells(), 1e-9, t, in, out); }));
+  report(state, p.grid.cell_count(), 56.0 * mats + 32.0);
+}
+
+/// Gases and solids as the container's (materials 0, 2: gases; 1: copper, with the
+/// law in tension; 3: PBX), each cell near equilibrium as a run's last step left it.
+MaterialTable gas_and_solid_table(int materials) {
+  MaterialTable t = gas_table(materials);
+  const double rho0[2] = {8930.0, 1840.0}, bulk[2] = {136.35e9, 5.72e9};
+  for (int m = 1; m < materials; m += 2) {
+    Eos& e = t.eos[m];
+    e.type = EosType::solid;
+    e.rho0 = rho0[m / 2];
+    e.bulk = bulk[m / 2];
+    e.modified = m == 1;
+  }
+  return t;
+}
+
+/// The equilibration's inputs in cell (i, j, k): a random equilibrium (pressure from
+/// 50 kPa to 100 MPa, about one cell in 11 below the solids' reference pressure, where
+/// copper takes its law in tension; random temperatures and volume fractions) whose
+/// pressure and gases' specific volumes are then moved by up to 1e-3, as by one step.
+/// A solid's specific volume is its EOS's at that pressure, as node_to_cell sets it
+/// (pitfall P1 in mpmice-algorithm.md).
+struct NearEquilibrium {
+  MaterialTable mats;
+  double cell_volume;
+  Field4 rho, temp, sp_vol;
+  Field3 press;
+  KOKKOS_INLINE_FUNCTION void operator()(int i, int j, int k) const {
+    const std::uint64_t cell = (std::uint64_t(i) * rho.extent(2) + std::uint64_t(j)) * rho.extent(3) + k;
+    const auto u = [&](int r) { return uniform01(7, cell * 16 + std::uint64_t(r)); };
+    const auto nudge = [&](int r) { return 1.0 + 1e-3 * (2.0 * u(r) - 1.0); };
+    const double p = 5e4 * math::pow(2000.0, u(0));
+    double theta[max_materials], sum = 0;
+    for (int r = 0; r < mats.count; ++r) sum += theta[r] = 0.05 + u(1 + r);
+    for (int r = 0; r < mats.count; ++r) {
+      temp(r, i, j, k) = 300.0 + 400.0 * u(5 + r);
+      const double rho_micro = eos_density(mats.eos[r], p, temp(r, i, j, k));
+      rho(r, i, j, k) = theta[r] / sum * rho_micro;
+      sp_vol(r, i, j, k) = nudge(9 + r) / rho_micro;
+    }
+    press(i, j, k) = p * nudge(13);
+    for (int r = 0; r < mats.count; ++r)
+      if (mats.eos[r].type == EosType::solid)
+        sp_vol(r, i, j, k) = 1.0 / eos_density(mats.eos[r], press(i, j, k), temp(r, i, j, k));
+  }
+};
+
+void BM_equilibrate_pressure_solids(benchmark::State& state) {
+  const int n = int(state.range(0)), mats = int(state.range(1));
+  const Patch p = cube_patch(n);
+  const NearEquilibrium in{gas_and_solid_table(mats), 1e-9, make_field("rho", p, Location::cell, mats),
+                           make_field("T", p, Location::cell, mats), make_field("v", p, Location::cell, mats),
+                           make_field("p", p, Location::cell)};
+  const long ni = long(in.rho.extent(1)), nj = long(in.rho.extent(2)), nk = long(in.rho.extent(3));
+  Kokkos::parallel_for("mpmice::bench::near_equilibrium",
+                       Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3>>({0, 0, 0}, {ni, nj, nk}), in);
+  Kokkos::fence();
+  const EquilibrationOut out{make_field("p", p, Location::cell), make_field("t", p, Location::cell, mats),
+                             make_field("v", p, Location::cell, mats), make_field("c", p, Location::cell, mats),
+                             make_field("k", p, Location::cell, mats), make_field("s", p, Location::cell),
+                             make_field("m", p, Location::cell)};
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] {
+      if (equilibrate_pressure(p.owned_cells(), in.cell_volume, in.mats, {in.rho, in.temp, in.sp_vol, in.press}, out)
+              .failed)
+        state.SkipWithError("equilibration failed");
+    }));
   report(state, p.grid.cell_count(), 56.0 * mats + 32.0);
 }
 
@@ -220,6 +298,7 @@ void BM_limited_gradient(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
+BENCHMARK(BM_equilibrate_pressure_solids)->Apply(solid_cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_velocity)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_face_exchange)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_exchange)->Apply(cell_sizes)->UseManualTime();
