@@ -150,6 +150,48 @@ TEST(SmallSolve, ExchangeSolvesTheSystem) {
 
 // Two ideal gases at different temperatures: the equilibrated pressure is the EOS
 // pressure of each material at its new micro density, and the volume fractions sum to 1.
+// The equilibration's inputs for `n` materials on the cells of `p`, filled on the host
+// (rh, th, vh, ph) and copied to the device by `copied()`.
+struct EquilibrationInputs {
+  Field4 rho, temp, sp_vol;
+  Field3 press;
+  Field4::HostMirror rh, th, vh;
+  Field3::HostMirror ph;
+  EquilibrationInputs(const Patch& p, int n)
+      : rho(make_field("rho", p, Location::cell, n)), temp(make_field("t", p, Location::cell, n)),
+        sp_vol(make_field("v", p, Location::cell, n)), press(make_field("p", p, Location::cell)),
+        rh(Kokkos::create_mirror_view(rho)), th(Kokkos::create_mirror_view(temp)),
+        vh(Kokkos::create_mirror_view(sp_vol)), ph(Kokkos::create_mirror_view(press)) {}
+  EquilibrationIn copied() const {
+    Kokkos::deep_copy(rho, rh);
+    Kokkos::deep_copy(temp, th);
+    Kokkos::deep_copy(sp_vol, vh);
+    Kokkos::deep_copy(press, ph);
+    return {rho, temp, sp_vol, press};
+  }
+};
+
+// equilibrate_pressure on the owned cells of `p` from `in`, its outputs copied to the host.
+using HostField3 = decltype(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Field3()));
+using HostField4 = decltype(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Field4()));
+struct EquilibratedOnHost {
+  HostField3 press;
+  HostField4 theta, v, c, kappa;
+  HostField3 sum_kappa, tmv;
+};
+EquilibratedOnHost equilibrate_on_host(const Patch& p, double cell_volume, const MaterialTable& mats,
+                                       const EquilibrationIn& in) {
+  const int n = mats.count;
+  const EquilibrationOut out{make_field("peq", p, Location::cell), make_field("th", p, Location::cell, n),
+                             make_field("v", p, Location::cell, n), make_field("c", p, Location::cell, n),
+                             make_field("k", p, Location::cell, n), make_field("sk", p, Location::cell),
+                             make_field("tmv", p, Location::cell)};
+  EXPECT_FALSE(equilibrate_pressure(p.owned_cells(), cell_volume, mats, in, out).failed);
+  const auto host = [](const auto& f) { return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f); };
+  return {host(out.press_eq), host(out.vol_frac), host(out.sp_vol),   host(out.speed_sound),
+          host(out.kappa),    host(out.sum_kappa), host(out.tmv)};
+}
+
 TEST(Equilibration, TwoGasesShareOnePressure) {
   Grid g;
   g.cells = {4, 1, 1};
@@ -158,13 +200,9 @@ TEST(Equilibration, TwoGasesShareOnePressure) {
   mats.count = 2;
   mats.eos[0] = Eos{EosType::ideal_gas, 1.4, 716.0};
   mats.eos[1] = Eos{EosType::ideal_gas, 1.67, 3116.0};
-  Field4 rho = make_field("rho", p, Location::cell, 2), temp = make_field("t", p, Location::cell, 2),
-         sp = make_field("v", p, Location::cell, 2);
-  Field3 press = make_field("p", p, Location::cell);
-  auto rh = Kokkos::create_mirror_view(rho);
-  auto th = Kokkos::create_mirror_view(temp);
-  auto vh = Kokkos::create_mirror_view(sp);
-  auto ph = Kokkos::create_mirror_view(press);
+  const EquilibrationInputs in(p, 2);
+  const auto &rh = in.rh, &th = in.th, &vh = in.vh;
+  const auto &ph = in.ph;
   for (int i = 0; i < p.extent(Location::cell, 0); ++i)
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k) {
@@ -178,24 +216,7 @@ TEST(Equilibration, TwoGasesShareOnePressure) {
         rh(1, i, j, k) = 0.7 / vh(1, i, j, k);
         ph(i, j, k) = 1e4;
       }
-  Kokkos::deep_copy(rho, rh);
-  Kokkos::deep_copy(temp, th);
-  Kokkos::deep_copy(sp, vh);
-  Kokkos::deep_copy(press, ph);
-  EquilibrationOut out{make_field("peq", p, Location::cell), make_field("th", p, Location::cell, 2),
-                       make_field("v", p, Location::cell, 2), make_field("c", p, Location::cell, 2),
-                       make_field("k", p, Location::cell, 2), make_field("sk", p, Location::cell),
-                       make_field("tmv", p, Location::cell)};
-  const auto fail = equilibrate_pressure(p.owned_cells(), g.cell_volume(), mats,
-                                         EquilibrationIn{rho, temp, sp, press}, out);
-  ASSERT_FALSE(fail.failed);
-  auto peq = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.press_eq);
-  auto theta = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.vol_frac);
-  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.sp_vol);
-  auto c = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.speed_sound);
-  auto kappa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.kappa);
-  auto sum_kappa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.sum_kappa);
-  auto tmv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.tmv);
+  const auto [peq, theta, v, c, kappa, sum_kappa, tmv] = equilibrate_on_host(p, g.cell_volume(), mats, in.copied());
   const IndexBox own = p.owned_cells();
   for (int i = own.lo[0]; i < own.hi[0]; ++i) {
     const double P = peq(i, 1, 1);
@@ -217,6 +238,79 @@ TEST(Equilibration, TwoGasesShareOnePressure) {
     EXPECT_NEAR(tmv(i, 1, 1), volume, 1e-13 * volume);
     // The mixture lies between the two initial pressures.
     EXPECT_GT(P, 1e5 * std::min(1 + i - 1, 3) * 0.99);
+  }
+}
+
+// Two gases and two solids as in the container (copper with the law in tension, E52;
+// PBX without), equilibrated by the Newton iteration (E15) from starts as a step leaves
+// them: the gases' specific volumes from another pressure, the solids' from their EOS at
+// the given pressure (Step 2), that pressure off by up to 3x. Pressures from below the
+// solids' reference pressure (copper in tension) to 500 MPa. Every material must end at
+// the one pressure by eos.hpp's own functions, with (E16) from them.
+TEST(Equilibration, GasesAndSolidsShareOnePressure) {
+  Grid g;
+  g.cells = {8, 1, 1};
+  const Patch p = whole_grid_patch(g, 1);
+  const double V = g.cell_volume();
+  MaterialTable mats;
+  mats.count = 4;
+  mats.eos[0] = Eos{EosType::ideal_gas, 1.4, 716.0};
+  mats.eos[1] = Eos{EosType::solid, 1.4, 383.0, 8930.0, 136.35e9, 101325.0, true};
+  mats.eos[2] = Eos{EosType::ideal_gas, 1.3, 1000.0};
+  mats.eos[3] = Eos{EosType::solid, 1.4, 996.0, 1840.0, 5.72e9, 101325.0, false};
+  const EquilibrationInputs in(p, 4);
+  const auto &rh = in.rh, &th = in.th, &vh = in.vh;
+  const auto &ph = in.ph;
+  const double p_eq[10] = {3e5, 5e4, 9e4, 101325.0, 2e5, 1e6, 3e7, 1e8, 5e8, 1e6};
+  const double guess[10] = {1.0, 1.0, 3.0, 0.9, 0.34, 1.0, 2.0, 0.5, 1.1, 1.0};
+  // Volume fractions: mixed, or nearly one material with traces of the others (1e-9).
+  const double fractions[4][4] = {
+      {0.4, 0.2, 0.3, 0.1}, {1.0, 1e-9, 1e-9, 1e-9}, {1e-9, 1.0, 1e-9, 1e-9}, {0.1, 0.45, 0.0, 0.45}};
+  for (int i = 0; i < p.extent(Location::cell, 0); ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) {
+        const double start = p_eq[i] * guess[i];
+        for (int r = 0; r < 4; ++r) {
+          th(r, i, j, k) = 300.0 + 100.0 * r + 10.0 * i;
+          const double rho_micro = eos_density(mats.eos[r], p_eq[i], th(r, i, j, k));
+          rh(r, i, j, k) = fractions[i % 4][r] * rho_micro;
+          const bool solid = mats.eos[r].type == EosType::solid;
+          vh(r, i, j, k) = 1.0 / eos_density(mats.eos[r], solid ? start : 1.5 * p_eq[i], th(r, i, j, k));
+        }
+        ph(i, j, k) = start;
+      }
+  const auto [peq, theta, v, c, kappa, sum_kappa, tmv] = equilibrate_on_host(p, V, mats, in.copied());
+  const IndexBox own = p.owned_cells();
+  for (int i = own.lo[0]; i < own.hi[0]; ++i) {
+    const double P = peq(i, 1, 1);
+    double sum = 0, sk = 0, volume = 0, start_volume = 0;
+    for (int r = 0; r < 4; ++r) start_volume += rh(r, i, 1, 1) * V * vh(r, i, 1, 1);
+    for (int r = 0; r < 4; ++r) {
+      const double vr = v(r, i, 1, 1), T = th(r, i, 1, 1);
+      // A material's pressure from its specific volume: a few roundings of v (1e-15
+      // relative) move a gas's by as much; a solid's, p_ref - K/2 (J - 1/J), by a few
+      // K eps (K = 136 GPa: 1e-4 Pa); under copper's law in tension (p ~
+      // rhoM^(K/p_ref)) 1.3e6 times as much as a gas's. So 1e-12 relative, plus 16 K
+      // eps for a solid, and 1e-8 relative in tension, for the pressure and for c^2.
+      const bool solid = mats.eos[r].type == EosType::solid;
+      const bool tension = eos_has_tension_law(mats.eos[r]) && 1.0 / vr < mats.eos[r].rho0;
+      const double tol = tension ? 1e-8 : 1e-12;
+      const double solid_eps = solid && !tension ? 16 * std::numeric_limits<double>::epsilon() * mats.eos[r].bulk : 0;
+      EXPECT_NEAR(eos_pressure(mats.eos[r], 1.0 / vr, T), P, tol * P + solid_eps)
+          << "cell " << i << " material " << r;
+      const double c2 = eos_sound_speed_squared(mats.eos[r], 1.0 / vr, T);
+      EXPECT_NEAR(c(r, i, 1, 1), std::sqrt(c2), tol * std::sqrt(c2)) << "cell " << i << " material " << r;
+      EXPECT_NEAR(kappa(r, i, 1, 1), vr / c2, tol * vr / c2);
+      // (E14): theta = rhoB v with the bulk density held, m / TMV^n.
+      EXPECT_NEAR(theta(r, i, 1, 1), rh(r, i, 1, 1) * V * vr / start_volume, 1e-13);
+      sum += theta(r, i, 1, 1);
+      sk += theta(r, i, 1, 1) * kappa(r, i, 1, 1);
+      volume += rh(r, i, 1, 1) * V * vr;
+    }
+    // Converged: |sum theta - 1| < 100 ulps (equilibration_tolerance).
+    EXPECT_NEAR(sum, 1.0, 1e-13) << "cell " << i;
+    EXPECT_NEAR(sum_kappa(i, 1, 1), sk, 1e-13 * sk);
+    EXPECT_NEAR(tmv(i, 1, 1), volume, 1e-13 * volume);
   }
 }
 

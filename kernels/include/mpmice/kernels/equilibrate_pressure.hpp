@@ -39,30 +39,108 @@ struct EquilibrationFailure {
 
 namespace detail {
 
-// Every material's micro density at pressure `press` and its volume fraction
-// rhoB/rhoM; returns their sum. N = mats.count, known at compile time.
+// The N materials' equations of state as the Newton iteration (E15) uses them: in
+// the specific volume v = 1/rhoM, at the cell's temperatures, with the reciprocals it
+// needs made once. A gas's v at pressure P is e/P with e = (gamma - 1) c_v T (E48),
+// from one 1/P per iteration for all gases; a solid's, outside tension, with
+// x = (P - p_ref)/K and s = sqrt(x^2 + 1), is (s - x)/rho_0, since (E51) gives
+// rhoM = rho_0 (x + s) and (s - x)(s + x) = 1 (for x > 1/2 as rho_0^-1/(x + s), which
+// does not cancel); in tension (E52) rho_0^-1 (P/p_ref)^(-p_ref/K). At such a state
+// dp/drho is e for a gas, K/2 (1 + J^2)/rho_0 with J = rho_0 v for a solid outside
+// tension, and K v P/p_ref in tension. Taken through rhoM with eos.hpp's functions, as
+// Uintah writes it, the same iteration divided about 18 times per iteration with 4
+// materials, against N + 2 here (docs/performance.md, session 39).
 template <int N>
-KOKKOS_INLINE_FUNCTION double fractions_at(const MaterialTable& mats, double press, const double* temp,
-                                           const double* rho_bulk, double* rho_micro, double* theta) {
+struct NewtonEos {
+  Kokkos::Array<Eos, N> eos;
+  Kokkos::Array<double, N> inv_rho0, inv_bulk, half_bulk;
+  explicit NewtonEos(const MaterialTable& mats) {
+    for (int r = 0; r < N; ++r) {
+      eos[r] = mats.eos[r];
+      inv_rho0[r] = 1.0 / mats.eos[r].rho0;
+      inv_bulk[r] = 1.0 / mats.eos[r].bulk;
+      half_bulk[r] = 0.5 * mats.eos[r].bulk;
+    }
+  }
+  KOKKOS_INLINE_FUNCTION bool gas(int r) const { return eos[r].type == EosType::ideal_gas; }
+  /// A gas's e = (gamma - 1) c_v T (p = rhoM e), 0 for a solid.
+  KOKKOS_INLINE_FUNCTION double gas_energy(int r, double temp) const {
+    return gas(r) ? (eos[r].gamma - 1.0) * eos[r].cv * temp : 0.0;
+  }
+  /// v at pressure P (1/P given), e from gas_energy.
+  KOKKOS_INLINE_FUNCTION double volume_at(int r, double e, double P, double inv_P) const {
+    const Eos& q = eos[r];
+    if (gas(r)) return e * inv_P;
+    if (eos_tension_law(q, P)) return inv_rho0[r] * math::pow(P / q.p_ref, -q.p_ref / q.bulk);
+    const double x = (P - q.p_ref) * inv_bulk[r], root = math::sqrt(x * x + 1.0);
+    return x > 0.5 ? inv_rho0[r] / (x + root) : (root - x) * inv_rho0[r];
+  }
+  /// dp/drho at v = volume_at(P).
+  KOKKOS_INLINE_FUNCTION double dp_drho_at(int r, double e, double P, double v) const {
+    const Eos& q = eos[r];
+    if (gas(r)) return e;
+    if (eos_tension_law(q, P)) return q.bulk * v * (P / q.p_ref);
+    const double J = q.rho0 * v;
+    return half_bulk[r] * (1.0 + J * J) * inv_rho0[r];
+  }
+  /// The pressure p_r and dp/drho of a state v not made from a pressure (the iteration's
+  /// start): eos_pressure and eos_dp_drho at rhoM = 1/v.
+  KOKKOS_INLINE_FUNCTION void state_of(int r, double e, double v, double& p, double& dp_drho) const {
+    const Eos& q = eos[r];
+    if (gas(r)) {
+      p = e / v;
+      dp_drho = e;
+      return;
+    }
+    const double J = q.rho0 * v;  // rho_0 / rhoM
+    if (q.modified && J > 1.0) {
+      p = q.p_ref * math::pow(J, -q.bulk / q.p_ref);
+      dp_drho = q.bulk * v * (p / q.p_ref);
+      return;
+    }
+    p = q.p_ref - half_bulk[r] * (J - 1.0 / J);
+    dp_drho = half_bulk[r] * (1.0 + J * J) * inv_rho0[r];
+  }
+  /// The squared sound speed at v = volume_at(P) (eos_sound_speed_squared: E47 for a
+  /// gas, p/rhoM^2 being P v / rhoM; K/rhoM for a solid, dp/drho in tension).
+  KOKKOS_INLINE_FUNCTION double sound_speed_squared_at(int r, double e, double P, double v) const {
+    const Eos& q = eos[r];
+    if (gas(r)) return e + (q.gamma - 1.0) * P * v;
+    if (eos_tension_law(q, P)) return dp_drho_at(r, e, P, v);
+    return q.bulk * v;
+  }
+};
+
+// Every material's specific volume at pressure `press` and its volume fraction
+// rhoB v; returns their sum.
+template <int N>
+KOKKOS_INLINE_FUNCTION double fractions_at(const NewtonEos<N>& eos, double press, const double* e,
+                                           const double* rho_bulk, double* v, double* theta) {
+  const double inv_press = 1.0 / press;
   double sum = 0;
   for (int r = 0; r < N; ++r) {
-    rho_micro[r] = eos_density(mats.eos[r], press, temp[r]);
-    theta[r] = rho_bulk[r] / rho_micro[r];
+    v[r] = eos.volume_at(r, e[r], press, inv_press);
+    theta[r] = rho_bulk[r] * v[r];
     sum += theta[r];
   }
   return sum;
 }
 
-// Residual-corrected Newton (E15); returns false if not converged.
+// Residual-corrected Newton (E15) from the state (v, theta) and pressure `press`; returns
+// false if not converged. Only the start's state is not the materials' at the iterate's
+// pressure: after the first step each p_r is the iterate itself (the residual P - p_r,
+// zero but for round-off, is left out).
 template <int N>
-KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const double* temp,
-                                               const double* rho_bulk, double* rho_micro,
-                                               double* theta, double& press) {
+KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const NewtonEos<N>& eos, const double* e, const double* rho_bulk,
+                                               double* v, double* theta, double& press) {
   for (int it = 0; it < equilibration_max_iterations; ++it) {
     double A = 0, B = 0, C = 0;
     for (int r = 0; r < N; ++r) {
-      const double p_r = eos_pressure(mats.eos[r], rho_micro[r], temp[r]);
-      const double dpdrho = eos_dp_drho(mats.eos[r], rho_micro[r], temp[r]);
+      double p_r = press, dpdrho;
+      if (it == 0)
+        eos.state_of(r, e[r], v[r], p_r, dpdrho);
+      else
+        dpdrho = eos.dp_drho_at(r, e[r], press, v[r]);
       const double y = theta[r] * theta[r] / (dpdrho * rho_bulk[r] + small_number);
       A += theta[r];
       B += (press - p_r) * y;
@@ -71,20 +149,19 @@ KOKKOS_INLINE_FUNCTION bool equilibrate_newton(const MaterialTable& mats, const 
     const double dp = (A - 1.0 - B) / C;
     press += dp;
     if (press < equilibration_tolerance) press = math::abs(dp);
-    const double sum = fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
+    const double sum = fractions_at<N>(eos, press, e, rho_bulk, v, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
   }
   return false;
 }
 
-// Bisection on 1 - sum_r rhoB_r / rhoM_r(P) over [DBL_EPSILON, 1/DBL_EPSILON].
+// Bisection on 1 - sum_r rhoB_r v_r(P) over [DBL_EPSILON, 1/DBL_EPSILON].
 template <int N>
-KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const MaterialTable& mats, const double* temp,
-                                                  const double* rho_bulk, double* rho_micro,
-                                                  double* theta, double& press) {
+KOKKOS_INLINE_FUNCTION bool equilibrate_bisection(const NewtonEos<N>& eos, const double* e, const double* rho_bulk,
+                                                  double* v, double* theta, double& press) {
   double lo = DBL_EPSILON, hi = 1.0 / DBL_EPSILON;
   for (int it = 0; it < 200; ++it) {
-    const double sum = fractions_at<N>(mats, press, temp, rho_bulk, rho_micro, theta);
+    const double sum = fractions_at<N>(eos, press, e, rho_bulk, v, theta);
     if (math::abs(sum - 1.0) < equilibration_tolerance) return true;
     // sum theta falls as the pressure rises.
     if (sum > 1.0)
@@ -161,44 +238,47 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
                             const EquilibrationIn& in, const EquilibrationOut& out) {
   const long nj = in.rho.extent(2), nk = in.rho.extent(3);
   const IdealGasesCell<N> ideal_gases(mats, cell_volume, in, out);
+  const NewtonEos<N> newton_eos(mats);
   // One cell's equilibration; true if its state is sane.
   const auto equilibrate_cell = KOKKOS_LAMBDA(long i, long j, long k) {
     if constexpr (AllIdeal) {
       return ideal_gases(i, j, k);
     } else {
-      double temp[N], rho_bulk[N], rho_micro[N], theta[N];
-      // (E14): start from last step's micro densities.
+      // (E14): last step's specific volumes (a solid's from its EOS at p^n, set in
+      // Step 2), the volume fractions over the total material volume, and the bulk
+      // densities held during the iteration.
+      double e[N], rho_bulk[N], v[N], theta[N];
       double tmv = 0;
       unrolled_for<N>([&](int r) {
-        temp[r] = in.temp(r, i, j, k);
-        rho_micro[r] = 1.0 / in.sp_vol(r, i, j, k);
-        theta[r] = in.rho(r, i, j, k) * cell_volume / rho_micro[r];
+        e[r] = newton_eos.gas_energy(r, in.temp(r, i, j, k));
+        v[r] = in.sp_vol(r, i, j, k);
+        theta[r] = in.rho(r, i, j, k) * cell_volume * v[r];
         tmv += theta[r];
       });
+      const double inv_tmv = 1.0 / tmv;
       unrolled_for<N>([&](int r) {
-        theta[r] /= tmv;
-        rho_bulk[r] = theta[r] * rho_micro[r];
+        theta[r] *= inv_tmv;
+        rho_bulk[r] = in.rho(r, i, j, k) * cell_volume * inv_tmv;
       });
       double press = in.press(i, j, k);
-      bool ok = equilibrate_newton<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+      bool ok = equilibrate_newton<N>(newton_eos, e, rho_bulk, v, theta, press);
       if (!ok) {
         press = in.press(i, j, k);
-        ok = equilibrate_bisection<N>(mats, temp, rho_bulk, rho_micro, theta, press);
+        ok = equilibrate_bisection<N>(newton_eos, e, rho_bulk, v, theta, press);
       }
       bool sane = ok & (press > 0.0) & math::isfinite(press);
       // (E16)
       double sum_kappa = 0, tmv_eq = 0;
       unrolled_for<N>([&](int r) {
-        sane = sane & (rho_micro[r] > 0.0) & (theta[r] >= 0.0);
-        const double c2 = eos_sound_speed_squared(mats.eos[r], rho_micro[r], temp[r]);
-        const double v = 1.0 / rho_micro[r];
-        const double kappa = v / c2;
+        sane = sane & (v[r] >= 0.0) & (v[r] <= DBL_MAX) & (theta[r] >= 0.0);  // rhoM in (0, inf]
+        const double c2 = newton_eos.sound_speed_squared_at(r, e[r], press, v[r]);
+        const double kappa = v[r] / c2;
         out.vol_frac(r, i, j, k) = theta[r];
-        out.sp_vol(r, i, j, k) = v;
+        out.sp_vol(r, i, j, k) = v[r];
         out.speed_sound(r, i, j, k) = math::sqrt(c2);
         out.kappa(r, i, j, k) = kappa;
         sum_kappa += theta[r] * kappa;
-        tmv_eq += in.rho(r, i, j, k) * cell_volume * v;
+        tmv_eq += in.rho(r, i, j, k) * cell_volume * v[r];
       });
       out.press_eq(i, j, k) = press;
       out.sum_kappa(i, j, k) = sum_kappa;
