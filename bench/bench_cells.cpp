@@ -49,6 +49,14 @@ void solid_cell_sizes(benchmark::internal::Benchmark* b) {
     for (int m : {2, 4}) b->Args({n, m});
 }
 
+/// The equilibration's outputs for `mats` materials on the cells of `p`.
+EquilibrationOut equilibration_out(const Patch& p, int mats) {
+  return {make_field("p", p, Location::cell), make_field("t", p, Location::cell, mats),
+          make_field("v", p, Location::cell, mats), make_field("c", p, Location::cell, mats),
+          make_field("k", p, Location::cell, mats), make_field("s", p, Location::cell),
+          make_field("m", p, Location::cell)};
+}
+
 void BM_equilibrate_pressure(benchmark::State& state) {
   const int n = int(state.range(0)), mats = int(state.range(1));
   const Patch p = cube_patch(n);
@@ -56,10 +64,7 @@ void BM_equilibrate_pressure(benchmark::State& state) {
   const Field4 rho = cell_field(p, mats, 1.0 / mats, 0.1, 1), temp = cell_field(p, mats, 300, 0.1, 2);
   Field4 v = cell_field(p, mats, 0.8, 0.05, 3);
   const Field3 press = cell_scalar(p, 101325, 0.05, 4);
-  const EquilibrationOut out{make_field("p", p, Location::cell), make_field("t", p, Location::cell, mats),
-                             make_field("v", p, Location::cell, mats), make_field("c", p, Location::cell, mats),
-                             make_field("k", p, Location::cell, mats), make_field("s", p, Location::cell),
-                             make_field("m", p, Location::cell)};
+  const EquilibrationOut out = equilibration_out(p, mats);
   const EquilibrationIn in{rho, temp, v, press};
   for (auto _ : state)
     state.SetIterationTime(timed([&] { equilibrate_pressure(p.owned_cells(), 1e-9, t, in, out); }));
@@ -99,16 +104,15 @@ struct NearEquilibrium {
     const double p = 5e4 * math::pow(2000.0, u(0));
     double theta[max_materials], sum = 0;
     for (int r = 0; r < mats.count; ++r) sum += theta[r] = 0.05 + u(1 + r);
+    const double start = p * nudge(13);
+    press(i, j, k) = start;
     for (int r = 0; r < mats.count; ++r) {
-      temp(r, i, j, k) = 300.0 + 400.0 * u(5 + r);
-      const double rho_micro = eos_density(mats.eos[r], p, temp(r, i, j, k));
+      const double T = 300.0 + 400.0 * u(5 + r), rho_micro = eos_density(mats.eos[r], p, T);
+      temp(r, i, j, k) = T;
       rho(r, i, j, k) = theta[r] / sum * rho_micro;
-      sp_vol(r, i, j, k) = nudge(9 + r) / rho_micro;
+      sp_vol(r, i, j, k) = mats.eos[r].type == EosType::solid ? 1.0 / eos_density(mats.eos[r], start, T)
+                                                              : nudge(9 + r) / rho_micro;
     }
-    press(i, j, k) = p * nudge(13);
-    for (int r = 0; r < mats.count; ++r)
-      if (mats.eos[r].type == EosType::solid)
-        sp_vol(r, i, j, k) = 1.0 / eos_density(mats.eos[r], press(i, j, k), temp(r, i, j, k));
   }
 };
 
@@ -122,10 +126,7 @@ void BM_equilibrate_pressure_solids(benchmark::State& state) {
   Kokkos::parallel_for("mpmice::bench::near_equilibrium",
                        Kokkos::MDRangePolicy<ExecSpace, Kokkos::Rank<3>>({0, 0, 0}, {ni, nj, nk}), in);
   Kokkos::fence();
-  const EquilibrationOut out{make_field("p", p, Location::cell), make_field("t", p, Location::cell, mats),
-                             make_field("v", p, Location::cell, mats), make_field("c", p, Location::cell, mats),
-                             make_field("k", p, Location::cell, mats), make_field("s", p, Location::cell),
-                             make_field("m", p, Location::cell)};
+  const EquilibrationOut out = equilibration_out(p, mats);
   for (auto _ : state)
     state.SetIterationTime(timed([&] {
       if (equilibrate_pressure(p.owned_cells(), in.cell_volume, in.mats, {in.rho, in.temp, in.sp_vol, in.press}, out)

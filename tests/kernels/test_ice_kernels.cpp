@@ -148,8 +148,6 @@ TEST(SmallSolve, ExchangeSolvesTheSystem) {
   check_exchange_solves_the_system<4>();
 }
 
-// Two ideal gases at different temperatures: the equilibrated pressure is the EOS
-// pressure of each material at its new micro density, and the volume fractions sum to 1.
 // The equilibration's inputs for `n` materials on the cells of `p`, filled on the host
 // (rh, th, vh, ph) and copied to the device by `copied()`.
 struct EquilibrationInputs {
@@ -192,6 +190,8 @@ EquilibratedOnHost equilibrate_on_host(const Patch& p, double cell_volume, const
           host(out.kappa),    host(out.sum_kappa), host(out.tmv)};
 }
 
+// Two ideal gases at different temperatures: the equilibrated pressure is the EOS
+// pressure of each material at its new micro density, and the volume fractions sum to 1.
 TEST(Equilibration, TwoGasesShareOnePressure) {
   Grid g;
   g.cells = {4, 1, 1};
