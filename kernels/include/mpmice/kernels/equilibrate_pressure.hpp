@@ -54,12 +54,16 @@ template <int N>
 struct NewtonEos {
   Kokkos::Array<Eos, N> eos;
   Kokkos::Array<double, N> inv_rho0, inv_bulk, half_bulk;
+  Kokkos::Array<double, N> volume_exponent, pressure_exponent;  ///< -p_ref/K and -K/p_ref (E52)
   explicit NewtonEos(const MaterialTable& mats) {
     for (int r = 0; r < N; ++r) {
-      eos[r] = mats.eos[r];
-      inv_rho0[r] = 1.0 / mats.eos[r].rho0;
-      inv_bulk[r] = 1.0 / mats.eos[r].bulk;
-      half_bulk[r] = 0.5 * mats.eos[r].bulk;
+      const Eos& q = mats.eos[r];
+      eos[r] = q;
+      inv_rho0[r] = 1.0 / q.rho0;
+      inv_bulk[r] = 1.0 / q.bulk;
+      half_bulk[r] = 0.5 * q.bulk;
+      volume_exponent[r] = -q.p_ref / q.bulk;
+      pressure_exponent[r] = -q.bulk / q.p_ref;
     }
   }
   KOKKOS_INLINE_FUNCTION bool gas(int r) const { return eos[r].type == EosType::ideal_gas; }
@@ -71,7 +75,7 @@ struct NewtonEos {
   KOKKOS_INLINE_FUNCTION double volume_at(int r, double e, double P, double inv_P) const {
     const Eos& q = eos[r];
     if (gas(r)) return e * inv_P;
-    if (eos_tension_law(q, P)) return inv_rho0[r] * math::pow(P / q.p_ref, -q.p_ref / q.bulk);
+    if (eos_tension_law(q, P)) return inv_rho0[r] * math::pow(P / q.p_ref, volume_exponent[r]);
     const double x = (P - q.p_ref) * inv_bulk[r], root = math::sqrt(x * x + 1.0);
     return x > 0.5 ? inv_rho0[r] / (x + root) : (root - x) * inv_rho0[r];
   }
@@ -94,7 +98,7 @@ struct NewtonEos {
     }
     const double J = q.rho0 * v;  // rho_0 / rhoM
     if (q.modified && J > 1.0) {
-      p = q.p_ref * math::pow(J, -q.bulk / q.p_ref);
+      p = q.p_ref * math::pow(J, pressure_exponent[r]);
       dp_drho = q.bulk * v * (p / q.p_ref);
       return;
     }
@@ -247,18 +251,19 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
       // (E14): last step's specific volumes (a solid's from its EOS at p^n, set in
       // Step 2), the volume fractions over the total material volume, and the bulk
       // densities held during the iteration.
-      double e[N], rho_bulk[N], v[N], theta[N];
+      double mass[N], e[N], rho_bulk[N], v[N], theta[N];
       double tmv = 0;
       unrolled_for<N>([&](int r) {
+        mass[r] = in.rho(r, i, j, k) * cell_volume;
         e[r] = newton_eos.gas_energy(r, in.temp(r, i, j, k));
         v[r] = in.sp_vol(r, i, j, k);
-        theta[r] = in.rho(r, i, j, k) * cell_volume * v[r];
+        theta[r] = mass[r] * v[r];
         tmv += theta[r];
       });
       const double inv_tmv = 1.0 / tmv;
       unrolled_for<N>([&](int r) {
         theta[r] *= inv_tmv;
-        rho_bulk[r] = in.rho(r, i, j, k) * cell_volume * inv_tmv;
+        rho_bulk[r] = mass[r] * inv_tmv;
       });
       double press = in.press(i, j, k);
       bool ok = equilibrate_newton<N>(newton_eos, e, rho_bulk, v, theta, press);
@@ -278,7 +283,7 @@ long equilibrate_pressure_n(const IndexBox& cells, double cell_volume, const Mat
         out.speed_sound(r, i, j, k) = math::sqrt(c2);
         out.kappa(r, i, j, k) = kappa;
         sum_kappa += theta[r] * kappa;
-        tmv_eq += in.rho(r, i, j, k) * cell_volume * v[r];
+        tmv_eq += mass[r] * v[r];
       });
       out.press_eq(i, j, k) = press;
       out.sum_kappa(i, j, k) = sum_kappa;
