@@ -412,7 +412,8 @@ TEST(Transfer, LinearWeightsAgreeBetweenKernels) { weights_agree_test<LinearShap
 TEST(Transfer, GimpWeightsAgreeBetweenKernels) { weights_agree_test<GimpShape>(); }
 
 // Particles for the cell-run tests: 0 to 11 in each cell of the patch in cell order,
-// the last quarter shuffled (runs of many, one and no particles, and an unsorted tail).
+// 40 more in the first, the last quarter shuffled (runs of many, one and no particles,
+// one longer than a block of the scatters by cell runs, and an unsorted tail).
 // Every column is 0 but the position, the mass (every 7th particle a trace of 2e-12 kg,
 // whose far nodes' share of the mass rounds to zero, else 0.5 to 1.5 kg) and the volume
 // (0.5e-4 to 1.5e-4 m^3); `more(h, p, u)` sets particle p's other columns in the host
@@ -430,7 +431,7 @@ ParticleSet cell_run_particles(const Patch& patch, std::mt19937_64& rng, const M
   for (int i = 0; i < g.cells[0] + extra; ++i)
     for (int j = 0; j < g.cells[1] + extra; ++j)
       for (int k = 0; k < g.cells[2] + extra; ++k)
-        for (int c = int(u() * 12); c > 0; --c)
+        for (int c = int(u() * 12) + (i + j + k == 0 ? 40 : 0); c > 0; --c)
           at.push_back({(i - shift + u()) * g.spacing[0], (j - shift + u()) * g.spacing[1],
                         (k - shift + u()) * g.spacing[2]});
   std::shuffle(at.begin() + long(at.size()) * 3 / 4, at.end(), rng);
@@ -565,8 +566,9 @@ void expect_linear_cell_runs_add_as_one_particle_at_a_time(bool force_quantum) {
                        each.fext[0], each.fext[1], each.fext[2]};
   long skipped = 0;
   for (int f = 0; f < (force_quantum ? 9 : 6); ++f) EXPECT_EQ(differing_entries(a[f], b[f]), 0) << "field " << f;
-  // Unrounded forces summed in another order: |f_ext| < 0.5 N from at most 88 particles
-  // a node (8 cells of up to 11), so sums below 44 N agree to a few ulps of 44 N (7e-15).
+  // Unrounded forces summed in another order: |f_ext| < 0.5 N from at most 128 particles
+  // a node (8 cells of up to 11, one of up to 51), so sums below 64 N agree to a few ulps
+  // of 64 N (1.4e-14 each).
   for (int f = force_quantum ? 9 : 6; f < 9; ++f) EXPECT_LT(largest_difference(a[f], b[f]), 1e-13) << "field " << f;
   // The trace particles' far nodes were skipped: some node share rounds to zero.
   const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());

@@ -61,9 +61,10 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 
 /// internal_force's scatter for the linear shape, whose nodes are the same for every
 /// particle of a cell: as p2g_cell_runs, a run of particles of one cell adds its forces
-/// counted in quanta (Quantum::in_units) in a vector loop over its 8 nodes, and into the
-/// scatter once per node. The node of largest weight is found after the vector loop, in
-/// the nodes' order, as internal_force_each_particle finds it. With quanta the sums are
+/// counted in quanta (Quantum::in_units), and into the scatter once per node. A block's
+/// particles find their forces first, in one vector loop over the particles
+/// (over_cell_run_blocks); a particle's node of largest weight is found in the nodes'
+/// order, as internal_force_each_particle finds it. With quanta the sums are
 /// exact, so they do not depend on how the particles split into runs or threads, and
 /// built with MPMICE_REPRODUCIBLE they are bit for bit those of
 /// internal_force_each_particle. Without it GCC may fuse a different product of
@@ -79,7 +80,7 @@ template <class Shape, bool Counted>
 void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
                               const Quantum& quantum, const Quantum& mass_quantum) {
-  constexpr int N = 8;
+  constexpr int N = 8, B = cell_run_block;
   using Sums = UnitSums<Counted>;
   using Sum = typename Sums::Sum;
   scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
@@ -88,38 +89,32 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
     // magic, so that the sum of k particles' is -(force) + k magic (UnitCount).
     Sum minus[3][N] = {};
     std::uint64_t added = 0;  // particles in the run so far
-    // Adds the run's sums into its nodes and zeroes them.
-    const auto add_run = [&](long run_first) {
-      unrolled_for<N>([&](int a) {
-        const long row = run_first + rows.steps[a];
-        for (int d = 0; d < 3; ++d) node(row, d) -= Sums::total(minus[d][a], added);
-      });
-      for (int d = 0; d < 3; ++d)
-        for (int a = 0; a < N; ++a) minus[d][a] = 0;
-      added = 0;
-    };
-    const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
+    // What each particle of the block adds to minus the forces, node by node.
+    alignas(64) Sum block_terms[3][N][B];
+    long block_first[B];
+    // The block's particles in one vector loop (lanes are particles, the nodes written
+    // out): the forces in quanta, t = x + magic; a node left out gets x = 0.
+    const auto weigh = [&](long p, long i) {
+      const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
+      block_first[i] = rows.at(wt.first);
       const Mat3 stress = force_stress(data, p);
       const double vol_units = data(p, column(ParticleField::volume)) * quantum.scale;  // as each_particle
       const double mp = data(p, column(ParticleField::mass));
-      // The forces in quanta, t = x + magic, vectorised over the nodes (a NodeOffset
-      // index and doubles for the choices, as in p2g_cell_runs); a node left out gets
-      // x = 0.
       double kept_weight[N], force[3][N];
-      MPMICE_PRAGMA_SIMD
-      for (NodeOffset a = 0; a < N; ++a) {
-        const double S = linear_node_weight(wt, a);
-        double gx, gy, gz;
-        linear_node_gradient(wt, a, gx, gy, gz);
+      unrolled_for<N>([&](int a) {
+        const int ia = a >> 2, ib = (a >> 1) & 1, ic = a & 1;
+        const double S = wt.weight(ia, ib, ic);
+        double g[3];
+        wt.gradient(ia, ib, ic, g);
         const double kept = mass_quantum.in_units(S * mp) + mass_quantum.unrounded;
-        const double f0 = vol_units * (stress(0, 0) * gx + stress(0, 1) * gy + stress(0, 2) * gz);
-        const double f1 = vol_units * (stress(1, 0) * gx + stress(1, 1) * gy + stress(1, 2) * gz);
-        const double f2 = vol_units * (stress(2, 0) * gx + stress(2, 1) * gy + stress(2, 2) * gz);
+        const double f0 = vol_units * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]);
+        const double f1 = vol_units * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]);
+        const double f2 = vol_units * (stress(2, 0) * g[0] + stress(2, 1) * g[1] + stress(2, 2) * g[2]);
         kept_weight[a] = kept != 0.0 ? S : 0.0;
         force[0][a] = (kept != 0.0 ? f0 : 0.0) + quantum.magic;
         force[1][a] = (kept != 0.0 ? f1 : 0.0) + quantum.magic;
         force[2][a] = (kept != 0.0 ? f2 : 0.0) + quantum.magic;
-      }
+      });
       const auto term = [&](double t) { return Sums::term(t, quantum.magic); };
       // The particle's forces sum to zero: its kept node of largest weight, the first
       // in the nodes' order, also gets the sum of all (internal_force_each_particle).
@@ -138,17 +133,28 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
       given0 = Sums::count(given0, N);
       given1 = Sums::count(given1, N);
       given2 = Sums::count(given2, N);
-      // Added as a vector loop too: a store to one node of the run's sums, read back as
-      // a vector, stalls (no store forwarding).
-      MPMICE_PRAGMA_SIMD
-      for (long a = 0; a < N; ++a) {
-        minus[0][a] += term(force[0][a]) - Sums::only_where(a == heaviest, given0);
-        minus[1][a] += term(force[1][a]) - Sums::only_where(a == heaviest, given1);
-        minus[2][a] += term(force[2][a]) - Sums::only_where(a == heaviest, given2);
-      }
+      unrolled_for<N>([&](int a) {
+        block_terms[0][a][i] = term(force[0][a]) - Sums::only_where(a == heaviest, given0);
+        block_terms[1][a][i] = term(force[1][a]) - Sums::only_where(a == heaviest, given1);
+        block_terms[2][a][i] = term(force[2][a]) - Sums::only_where(a == heaviest, given2);
+      });
+    };
+    const auto add = [&](int i) {
+      unrolled_for<3>([&](int d) { unrolled_for<N>([&](int a) { minus[d][a] += block_terms[d][a][i]; }); });
       ++added;
     };
-    over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
+    // Adds the run's sums into its nodes and zeroes them.
+    const auto add_run = [&](long run_first) {
+      if (added == 0) return;
+      unrolled_for<N>([&](int a) {
+        const long row = run_first + rows.steps[a];
+        for (int d = 0; d < 3; ++d) node(row, d) -= Sums::total(minus[d][a], added);
+      });
+      for (int d = 0; d < 3; ++d)
+        for (int a = 0; a < N; ++a) minus[d][a] = 0;
+      added = 0;
+    };
+    over_cell_run_blocks(lo, hi, block_first, weigh, add, add_run);
   });
 }
 

@@ -81,82 +81,74 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
   });
 }
 
-/// The weight of node i = (a n + b) n + c (n = 2) of a particle with the linear shape,
-/// as ParticleWeights::weight forms it, for a vector loop over i: selects on i's bits as
-/// doubles and no arrays (node weights stored before the loop cost a failed store
-/// forward per vector load; with a bool or a local array GCC 12 did not vectorise).
-/// i is a NodeOffset (types.hpp): without AVX-512DQ no vector instruction turns a long
-/// into a double, and with a long index the loop stayed scalar on AVX2 (session 31).
-template <class Shape>
-KOKKOS_FORCEINLINE_FUNCTION double linear_node_weight(const ParticleWeights<Shape>& wt, NodeOffset i) {
-  static_assert(Shape::nodes == 2, "the linear shape's 2 x 2 x 2 nodes");
-  const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
-  const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0];
-  const double wb = b != 0.0 ? wt.w[1][1] : wt.w[1][0];
-  const double wc = c != 0.0 ? wt.w[2][1] : wt.w[2][0];
-  return wa * wb * wc;
-}
+/// Particles per block of `over_cell_run_blocks`: on the host 32 (16 and 64 ran
+/// 0.95-1.0x as fast in p2g), on a GPU 1 (a thread takes one particle, and its block
+/// arrays stay small).
+#if defined(MPMICE_DEVICE_BACKEND)
+constexpr int cell_run_block = 1;
+#else
+constexpr int cell_run_block = 32;
+#endif
 
-/// The weight's gradient (gx, gy, gz) at node i, as ParticleWeights::gradient forms it,
-/// written as linear_node_weight (three doubles, not an array: see there).
-template <class Shape>
-KOKKOS_FORCEINLINE_FUNCTION void linear_node_gradient(const ParticleWeights<Shape>& wt, NodeOffset i, double& gx,
-                                                      double& gy, double& gz) {
-  const double a = double((i >> 2) & 1), b = double((i >> 1) & 1), c = double(i & 1);
-  const double wa = a != 0.0 ? wt.w[0][1] : wt.w[0][0], da = a != 0.0 ? wt.dw[0][1] : wt.dw[0][0];
-  const double wb = b != 0.0 ? wt.w[1][1] : wt.w[1][0], db = b != 0.0 ? wt.dw[1][1] : wt.dw[1][0];
-  const double wc = c != 0.0 ? wt.w[2][1] : wt.w[2][0], dc = c != 0.0 ? wt.dw[2][1] : wt.dw[2][0];
-  gx = da * wb * wc;
-  gy = wa * db * wc;
-  gz = wa * wb * dc;
-}
-
-/// The particle loop of a scatter by cell runs (p2g_cell_runs,
-/// internal_force_cell_runs) over particles [lo, hi): each particle's weights and its
-/// first node's row in the block; `add(p, wt)` adds particle p into the run's sums, and
-/// `add_run(first)` adds them into the nodes from row `first` (and zeroes them) after
-/// the last particle of the run's cell. The run's inner loop calls nothing else, so the
-/// compiler can keep the sums in registers through it (before, with add_run a branch
-/// in the one particle loop, they went to the stack and back for every particle).
-template <class Shape, class Add, class AddRun>
-KOKKOS_FORCEINLINE_FUNCTION void over_cell_runs(const NodeGrid& grid, const NodeStencil<Shape::nodes>& rows,
-                                                const ParticleData& data, long lo, long hi, const Add& add,
-                                                const AddRun& add_run) {
-  const auto weights = [&](long p) { return particle_weights<Shape>(grid, data, p); };
-  if (lo >= hi) return;
-  long p = lo;
-  ParticleWeights<Shape> wt = weights(p);
-  while (p < hi) {
-    const long first = rows.at(wt.first);
-    long next_first = first;
-    do {
-      add(p, wt);
-      if (++p == hi) break;
-      wt = weights(p);
-      next_first = rows.at(wt.first);
-    } while (next_first == first);
-    add_run(first);
+/// The particle loop of a scatter by cell runs (p2g_cell_runs, internal_force_cell_runs)
+/// over particles [lo, hi), a block of `cell_run_block` particles at a time. First, in
+/// one vector loop over the block's particles (lanes are particles), `weigh(p, i)` stores
+/// what particle p, the block's i-th, adds into the nodes of its cell, and its first
+/// node's row in `block_first[i]`. Then, particle by particle, `add(i)` adds the block's
+/// particle i into the run's sums, and `add_run(first)` adds them into the nodes from
+/// row `first` (and zeroes them) after the last particle of the run's cell, which may
+/// come in a later block. Until session 41 one loop did both for each particle in turn:
+/// a particle's weights fed the run's sums in a chain of some 60 cycles, which
+/// out-of-order execution overlapped for only two or three particles (p2g 1.4x and
+/// internal_force 1.7x faster apart on 1 thread, docs/performance.md, session 41). The
+/// run's inner loop calls nothing else, so the compiler keeps the run's sums in
+/// registers through it.
+template <class Weigh, class Add, class AddRun>
+KOKKOS_FORCEINLINE_FUNCTION void over_cell_run_blocks(long lo, long hi, long* block_first, const Weigh& weigh,
+                                                      const Add& add, const AddRun& add_run) {
+  long run_first = -1;  // no run yet: add_run with nothing added adds nothing
+  for (long b0 = lo; b0 < hi; b0 += cell_run_block) {
+    const int n = int(hi - b0 < cell_run_block ? hi - b0 : cell_run_block);
+#if defined(MPMICE_DEVICE_BACKEND)
+    for (int i = 0; i < n; ++i) weigh(b0 + i, long(i));
+#else
+    // b0 by value: read through a reference, it kept the loop from vectorising.
+    simd_run([&weigh, b0](long p) { weigh(p, p - b0); }, b0, b0 + n);
+#endif
+    int i = 0;
+    while (i < n) {
+      const long first = block_first[i];
+      if (first != run_first) {
+        add_run(run_first);
+        run_first = first;
+      }
+      do add(i);
+      while (++i < n && block_first[i] == first);
+    }
   }
+  add_run(run_first);
 }
 
 /// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
 /// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
-/// particles' contributions in registers, the masses as a vector over its 8 nodes, then
-/// each node's other 8 fields as one vector over the fields (as they lie in the node's
-/// row of the scatter), and adds the sums into the scatter once per node, again 8
-/// fields at once (8 particles per cell: 1/8 of the adds). A node
-/// whose share of the mass rounds to zero gets nothing, as in p2g_each_particle. The
-/// run counts each contribution in its quantum, as the scatter holds them
-/// (add_scatter_into): with `Counted` (every field after the mass has a quantum, as in
-/// the driver) in 64-bit integers, the bits of x + magic added (UnitCount: 1.1-1.4x
-/// against the rounded doubles on 1 thread, docs/performance.md, session 38), else as
-/// the doubles (x + magic) - magic. The sums' order differs from p2g_each_particle's:
-/// without quanta a node's value changes at round-off; with quanta, as in the driver,
-/// not at all.
+/// particles' contributions in registers and adds the sums into the scatter once per
+/// node (8 particles per cell: 1/8 of the adds), a node's 8 fields after the mass as one
+/// vector over the fields (as they lie in the node's row of the scatter). A block's
+/// particles are weighed first (over_cell_run_blocks): each node's weight kept (0 for
+/// a node whose share of the mass rounds to zero: it gets nothing, as in
+/// p2g_each_particle) and that share, stored node by node (a run reads one particle's
+/// as a scalar, broadcast), and the values of the other fields, stored particle by
+/// particle (read as a vector over them). The run counts each contribution in its
+/// quantum, as the scatter holds them (add_scatter_into): with `Counted` (every field
+/// after the mass has a quantum, as in the driver) in 64-bit integers, the bits of x +
+/// magic added (UnitCount: 1.1-1.4x against the rounded doubles on 1 thread,
+/// docs/performance.md, session 38), else as the doubles (x + magic) - magic. The sums'
+/// order differs from p2g_each_particle's: without quanta a node's value changes at
+/// round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
 void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
-  constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields;
+  constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields, B = cell_run_block;
   using Sums = UnitSums<Counted>;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
@@ -164,8 +156,34 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
     double mass_units[N] = {};
     typename Sums::Sum units[N][F - 1] = {};
     std::uint64_t added = 0;  // particles in the run so far
+    alignas(64) double block_kept[N][B], block_mass[N][B], block_value[B][F - 1];
+    long block_first[B];
+    const auto weigh = [&](long p, long i) {
+      const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
+      block_first[i] = rows.at(wt.first);
+      double value[F];
+      p2g_values(data, p, quanta, value);
+      unrolled_for<F - 1>([&](int f) { block_value[i][f] = value[f + 1]; });
+      unrolled_for<N>([&](int a) {
+        const double S = wt.weight(a >> 2, (a >> 1) & 1, a & 1);
+        const double mass = quantum[0].in_units(S * value[0]);
+        block_kept[a][i] = mass != 0.0 ? S : 0.0;
+        block_mass[a][i] = mass;
+      });
+    };
+    // A node left out adds x = 0: the magic number alone, counted as 0.
+    const auto add = [&](int i) {
+      unrolled_for<N>([&](int a) { mass_units[a] += block_mass[a][i]; });
+      unrolled_for<N>([&](int a) {
+        MPMICE_PRAGMA_SIMD
+        for (int f = 1; f < F; ++f)
+          units[a][f - 1] += Sums::term(block_kept[a][i] * block_value[i][f - 1] + quanta.magic[f], quanta.magic[f]);
+      });
+      ++added;
+    };
     // Adds the run's sums into its nodes (those that got mass) and zeroes them.
     const auto add_run = [&](long run_first) {
+      if (added == 0) return;
       unrolled_for<N>([&](int a) {
         if (mass_units[a] != 0.0) {
           const long row = run_first + rows.steps[a];
@@ -178,31 +196,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       });
       added = 0;
     };
-    const auto add = [&](long p, const ParticleWeights<Shape>& wt) {
-      double value[F];
-      p2g_values(data, p, quanta, value);
-      // The weights kept (0 for a node left out) over the nodes, without branches
-      // (Quantum::in_units) and with a double, not a bool, choosing: either kept GCC 12
-      // from vectorising the loop (docs/design.md, "Particle loops"). A NodeOffset
-      // index: with an int and AVX-512 GCC 12 sized the vectors for 8 ints, two 256-bit
-      // halves per double; with a long and AVX2 it left the loop scalar (no vector
-      // long -> double for the weights' choices).
-      double kept[N];
-      MPMICE_PRAGMA_SIMD
-      for (NodeOffset a = 0; a < N; ++a) {
-        const double S = linear_node_weight(wt, a);
-        const double mass = quantum[0].in_units(S * value[0]);
-        kept[a] = mass != 0.0 ? S : 0.0;
-        mass_units[a] += mass;
-      }
-      // A node left out adds x = 0: the magic number alone, counted as 0.
-      unrolled_for<N>([&](int a) {
-        MPMICE_PRAGMA_SIMD
-        for (int f = 1; f < F; ++f) units[a][f - 1] += Sums::term(kept[a] * value[f] + quanta.magic[f], quanta.magic[f]);
-      });
-      ++added;
-    };
-    over_cell_runs<Shape>(grid, rows, data, lo, hi, add, add_run);
+    over_cell_run_blocks(lo, hi, block_first, weigh, add, add_run);
   });
 }
 
