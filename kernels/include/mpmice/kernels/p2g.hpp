@@ -112,8 +112,8 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_run_blocks(long lo, long hi, long* bl
 #if defined(MPMICE_DEVICE_BACKEND)
     for (int i = 0; i < n; ++i) weigh(b0 + i, long(i));
 #else
-    // b0 by value: read through a reference, it kept the loop from vectorising.
-    simd_run([&weigh, b0](long p) { weigh(p, p - b0); }, b0, b0 + n);
+    // The place in the block as a long: as an int, GCC 12 left this loop scalar.
+    simd_run([&](long p) { weigh(p, p - b0); }, b0, b0 + n);
 #endif
     int i = 0;
     while (i < n) {
