@@ -529,24 +529,32 @@ double largest_difference(const ConstField4& a, const ConstField4& b) {
   return largest;
 }
 
-// With the linear shape p2g adds consecutive particles of one cell together before
-// adding into the nodes (p2g_cell_runs). With quanta every sum is exact, so node by node
-// it must give bit for bit what adding one particle at a time gives: runs of many,
-// one and no particles, runs broken by an unsorted tail, and trace particles whose far
-// nodes' share of the mass rounds to zero (skipped by both). Every field with a quantum
-// is counted in integers; with the external force unrounded (no quantum) the runs sum
-// in doubles, the other fields still bit for bit and the force to round-off.
-void expect_linear_cell_runs_add_as_one_particle_at_a_time(bool force_quantum) {
+// p2g adds consecutive particles of one window (the nodes their shape reaches: the
+// linear shape's cell, GIMP's nearest node) together before adding into the nodes
+// (p2g_window_runs). With quanta every sum is exact, so node by node it must give bit for
+// bit what adding one particle at a time gives (p2g_each_particle): runs of many, one and
+// no particles, a run longer than a block, runs broken by an unsorted tail, and trace
+// particles whose far nodes' share of the mass rounds to zero (skipped by both). Every
+// field with a quantum is counted in integers; with the external force unrounded (no
+// quantum) the runs sum in doubles, the other fields still bit for bit and the force to
+// round-off.
+template <class Shape>
+void expect_window_runs_add_as_one_particle_at_a_time(bool force_quantum) {
+  constexpr int n_nodes = Shape::nodes, N = n_nodes * n_nodes * n_nodes;
   const Patch patch = whole_patch({6, 5, 4}, {0.1, 0.2, 0.1});
   const NodeGrid grid = node_grid(patch);
   std::mt19937_64 rng(23);
-  const ParticleSet ps = cell_run_particles(patch, rng, [](auto& h, long p, auto& u) {
-    for (int d = 0; d < 3; ++d) {
-      h(p, column(ParticleField::vx) + d) = u() - 0.5;
-      h(p, column(ParticleField::fext_x) + d) = u() - 0.5;
-    }
-    h(p, column(ParticleField::temperature)) = 300 + 100 * u();
-  });
+  const ParticleSet ps = cell_run_particles(
+      patch, rng,
+      [](auto& h, long p, auto& u) {
+        for (int d = 0; d < 3; ++d) {
+          h(p, column(ParticleField::vx) + d) = u() - 0.5;
+          h(p, column(ParticleField::fext_x) + d) = u() - 0.5;
+          h(p, column(ParticleField::size_x) + d) = 0.5;  // GIMP's half-width: a quarter cell
+        }
+        h(p, column(ParticleField::temperature)) = 300 + 100 * u();
+      },
+      Shape::nodes == 3);
   const long n = long(ps.size());
   SumQuanta q = quanta_for(particle_scatter_bounds(n, ps.data()));
   q.mass = quantum_for(1.5);
@@ -554,37 +562,50 @@ void expect_linear_cell_runs_add_as_one_particle_at_a_time(bool force_quantum) {
   ASSERT_EQ(QuantumArray<detail::p2g_fields>(detail::p2g_quanta(q)).counted_from(1), force_quantum);
 
   const NodeSums runs = node_sums(patch), each = node_sums(patch);
-  p2g<LinearShape>(grid, n, ps.data(), 0, runs, q);
+  p2g<Shape>(grid, n, ps.data(), 0, runs, q);
   ScatterScratch scratch;
   const NodeScatter& scatter = scratch.zeroed("each", each.mass, detail::p2g_fields);
-  detail::p2g_each_particle<LinearShape>(grid, n, ps.data(), scatter, block_stencil<2>(each.mass),
-                                         detail::p2g_quanta(q));
+  detail::p2g_each_particle<Shape>(grid, n, ps.data(), scatter, block_stencil<n_nodes>(each.mass),
+                                   detail::p2g_quanta(q));
   detail::add_p2g_scatter_into(scatter, each, 0, detail::p2g_quanta(q));
   const Field4 a[9] = {runs.mass, runs.mom[0], runs.mom[1], runs.mom[2], runs.heat, runs.volume,
                        runs.fext[0], runs.fext[1], runs.fext[2]};
   const Field4 b[9] = {each.mass, each.mom[0], each.mom[1], each.mom[2], each.heat, each.volume,
                        each.fext[0], each.fext[1], each.fext[2]};
-  long skipped = 0;
   for (int f = 0; f < (force_quantum ? 9 : 6); ++f) EXPECT_EQ(differing_entries(a[f], b[f]), 0) << "field " << f;
-  // Unrounded forces summed in another order: |f_ext| < 0.5 N from at most 128 particles
-  // a node (8 cells of up to 11, one of up to 51), so sums below 64 N agree to a few ulps
-  // of 64 N (1.4e-14 each).
-  for (int f = force_quantum ? 9 : 6; f < 9; ++f) EXPECT_LT(largest_difference(a[f], b[f]), 1e-13) << "field " << f;
-  // The trace particles' far nodes were skipped: some node share rounds to zero.
+  // Unrounded forces summed in another order: |f_ext| < 0.5 N from at most k particles a
+  // node (the windows that reach it: 8 with the linear shape, 27 with GIMP; each of up to
+  // 11 particles, one of up to 51), so each sum is within (k - 1) 2^-53 (0.5 k) N of the
+  // exact one (the worst case of k - 1 roundings of partial sums below 0.5 k N), and the
+  // two sums within twice that of each other.
+  const double k = (N - 1) * 11 + 51, bound = 2 * (k - 1) * 0x1p-53 * 0.5 * k;
+  for (int f = force_quantum ? 9 : 6; f < 9; ++f) EXPECT_LE(largest_difference(a[f], b[f]), bound) << "field " << f;
+  // The trace particles' far nodes were skipped: some node share of weight rounds to zero.
   const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  long skipped = 0;
   for (long p = 0; p < n; p += 7) {
     double x[3], half[3];
     particle_position(h, p, x, half);
-    const ParticleWeights<LinearShape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
-    for (int i = 0; i < 8; ++i)
-      skipped += Quantum(q.mass).round(wt.weight(i >> 2, (i >> 1) & 1, i & 1) * 2e-12) == 0.0;
+    const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
+    for (int i = 0; i < N; ++i) {
+      const double S = wt.weight(i / (n_nodes * n_nodes), (i / n_nodes) % n_nodes, i % n_nodes);
+      skipped += S > 0 && Quantum(q.mass).round(S * 2e-12) == 0.0;
+    }
   }
   EXPECT_GT(skipped, 0);
 }
 
-TEST(Transfer, LinearCellRunsAddAsOneParticleAtATime) { expect_linear_cell_runs_add_as_one_particle_at_a_time(true); }
-TEST(Transfer, LinearCellRunsWithAnUnroundedFieldAddAsOneParticleAtATime) {
-  expect_linear_cell_runs_add_as_one_particle_at_a_time(false);
+TEST(Transfer, LinearWindowRunsAddAsOneParticleAtATime) {
+  expect_window_runs_add_as_one_particle_at_a_time<LinearShape>(true);
+}
+TEST(Transfer, LinearWindowRunsWithAnUnroundedFieldAddAsOneParticleAtATime) {
+  expect_window_runs_add_as_one_particle_at_a_time<LinearShape>(false);
+}
+TEST(Transfer, GimpWindowRunsAddAsOneParticleAtATime) {
+  expect_window_runs_add_as_one_particle_at_a_time<GimpShape>(true);
+}
+TEST(Transfer, GimpWindowRunsWithAnUnroundedFieldAddAsOneParticleAtATime) {
+  expect_window_runs_add_as_one_particle_at_a_time<GimpShape>(false);
 }
 
 #if !defined(MPMICE_DEVICE_BACKEND)
@@ -1262,10 +1283,14 @@ TEST(InternalForce, EachParticlesForcesSumToZero) {
   }
 }
 
-// With the linear shape internal_force adds consecutive particles of one cell together
-// (internal_force_cell_runs): random stresses and gauge pressures, runs of many, one and
-// no particles and an unsorted tail, and trace particles whose far nodes get no force
-// (and whose heaviest node takes the rest). With quanta every sum is exact. Built with
+// internal_force adds consecutive particles of one window together
+// (internal_force_window_runs): random stresses and gauge pressures, runs of many, one
+// and no particles, a run longer than a block and an unsorted tail, and trace particles
+// whose far nodes get no force (and whose heaviest node takes the rest); with GIMP
+// every fifth particle exactly on its nearest node, the node of most weight, which has
+// no gradient (internal_force_each_particle skips it, the window runs do not: its
+// other nodes' forces cancel in pairs, so which node takes their zero sum does not
+// matter). With quanta every sum is exact. Built with
 // MPMICE_REPRODUCIBLE (no fused multiply-adds, kernels/CMakeLists.txt) both compute each
 // force alike: bit for bit the same. Without it the vector loop may fuse another
 // product of sigma . grad S into an FMA than the scalar loop does, so a contribution
@@ -1275,20 +1300,35 @@ TEST(InternalForce, EachParticlesForcesSumToZero) {
 // 2^-41 to 2^-40 of the bound on one force), where a real fault (a node, a sign, a lost
 // remainder of a trace particle) differs by whole forces, over 1e6 quanta here. The
 // forces' total over the grid is exactly zero.
-TEST(InternalForce, LinearCellRunsAddAsOneParticleAtATime) {
-  const Patch patch = whole_patch({6, 5, 4}, {0.1, 0.2, 0.1});
+template <class Shape>
+void expect_internal_force_window_runs_add_as_one_particle_at_a_time() {
+  constexpr bool gimp = Shape::nodes == 3;
+  const std::array<double, 3> h_cell = {0.125, 0.25, 0.125};  // node positions exact in binary
+  const Patch patch = whole_patch({6, 5, 4}, h_cell);
   const NodeGrid grid = node_grid(patch);
   std::mt19937_64 rng(29);
-  const ParticleSet ps = cell_run_particles(patch, rng, [](auto& h, long p, auto& u) {
-    h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
-    h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
-    for (int a = 0; a < 3; ++a)
-      for (int b = a; b < 3; ++b) {
-        const double v = 1e8 * (u() - 0.5);
-        h(p, tensor_column(ParticleField::s00, a, b)) = v;
-        h(p, tensor_column(ParticleField::s00, b, a)) = v;
-      }
-  });
+  long on_node = 0;
+  const ParticleSet ps = cell_run_particles(
+      patch, rng,
+      [&](auto& h, long p, auto& u) {
+        h(p, column(ParticleField::gas_pressure)) = 1e5 * u();
+        h(p, column(ParticleField::bulk_viscosity)) = 1e3 * u();
+        for (int a = 0; a < 3; ++a)
+          for (int b = a; b < 3; ++b) {
+            const double v = 1e8 * (u() - 0.5);
+            h(p, tensor_column(ParticleField::s00, a, b)) = v;
+            h(p, tensor_column(ParticleField::s00, b, a)) = v;
+          }
+        const bool snap = gimp && p % 5 == 1 && p % 7 != 0;  // not a trace particle
+        for (int d = 0; d < 3; ++d) {
+          h(p, column(ParticleField::size_x) + d) = 0.5;  // GIMP's half-width: a quarter cell
+          double& x = h(p, column(ParticleField::x) + d);
+          if (snap) x = std::round(x / h_cell[d]) * h_cell[d];
+        }
+        on_node += snap;
+      },
+      gimp);
+  EXPECT_EQ(on_node > 0, gimp);
   const long n = long(ps.size());
   SumQuanta q;
   q.mass = quantum_for(1.5);
@@ -1296,11 +1336,11 @@ TEST(InternalForce, LinearCellRunsAddAsOneParticleAtATime) {
 
   auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
   const VectorField4 runs{node("fx"), node("fy"), node("fz")}, each{node("ex"), node("ey"), node("ez")};
-  internal_force<LinearShape>(grid, n, ps.data(), 0, runs, q);
+  internal_force<Shape>(grid, n, ps.data(), 0, runs, q);
   ScatterScratch scratch;
   const NodeScatter& scatter = scratch.zeroed("each", each[0], 3);
-  detail::internal_force_each_particle<LinearShape>(grid, n, ps.data(), scatter, block_stencil<2>(each[0]),
-                                                    Quantum(q.internal_force), Quantum(q.mass));
+  detail::internal_force_each_particle<Shape>(grid, n, ps.data(), scatter, block_stencil<Shape::nodes>(each[0]),
+                                              Quantum(q.internal_force), Quantum(q.mass));
   detail::add_force_scatter_into(scatter, each, 0, Quantum(q.internal_force));
   for (int d = 0; d < 3; ++d) {
     auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), runs[d]);
@@ -1322,4 +1362,11 @@ TEST(InternalForce, LinearCellRunsAddAsOneParticleAtATime) {
 #endif
     EXPECT_EQ(total, 0.0) << "component " << d;
   }
+}
+
+TEST(InternalForce, LinearWindowRunsAddAsOneParticleAtATime) {
+  expect_internal_force_window_runs_add_as_one_particle_at_a_time<LinearShape>();
+}
+TEST(InternalForce, GimpWindowRunsAddAsOneParticleAtATime) {
+  expect_internal_force_window_runs_add_as_one_particle_at_a_time<GimpShape>();
 }

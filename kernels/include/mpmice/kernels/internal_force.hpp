@@ -17,7 +17,9 @@ KOKKOS_FORCEINLINE_FUNCTION Mat3 force_stress(const ParticleData& data, long p) 
   return stress;
 }
 
-/// internal_force's scatter particle by particle, node by node (GIMP).
+/// internal_force's scatter particle by particle, node by node: the reference that
+/// internal_force_window_runs, which internal_force takes, must match (the tests compare
+/// them). GIMP took this path until session 41.
 template <class Shape>
 void internal_force_each_particle(const NodeGrid& grid, long count, const ParticleData& data,
                                   const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
@@ -59,12 +61,16 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
   });
 }
 
-/// internal_force's scatter for the linear shape, whose nodes are the same for every
-/// particle of a cell: as p2g_cell_runs, a run of particles of one cell adds its forces
-/// counted in quanta (Quantum::in_units), and into the scatter once per node. A block's
-/// particles find their forces first, in one vector loop over the particles
-/// (over_cell_run_blocks); a particle's node of largest weight is found in the nodes'
-/// order, as internal_force_each_particle finds it. With quanta the sums are
+/// internal_force's scatter by runs of particles of one window: as p2g_window_runs, a
+/// run adds its particles' forces counted in quanta (Quantum::in_units), and into the
+/// scatter once per node. A block's particles find their forces first, in one vector
+/// loop over the particles (over_window_run_blocks); a particle's node of largest weight
+/// is found in the nodes' order, and a node whose share of the mass rounds to zero gets
+/// no force, as in internal_force_each_particle. That one also skips a node of no
+/// gradient; such a node of weight is one a GIMP particle sits exactly on (dw = 0 along
+/// all three directions), and then the forces on its other nodes cancel in pairs
+/// (opposite gradients, exactly), so the remainder `given` is 0 and which node takes it
+/// does not matter. With quanta the sums are
 /// exact, so they do not depend on how the particles split into runs or threads, and
 /// built with MPMICE_REPRODUCIBLE they are bit for bit those of
 /// internal_force_each_particle. Without it GCC may fuse a different product of
@@ -73,14 +79,15 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 /// in a 300-step container run with linear shapes). Without quanta the sums' order
 /// differs too (a node gets given - f, not -f then + given), so they change at
 /// round-off. With `Counted` (a quantum, as in the driver) the run sums the forces'
-/// units as integers (UnitCount, as p2g_cell_runs: 1.0-1.2x on 1 thread,
+/// units as integers (UnitCount, as p2g_window_runs: 1.0-1.2x on 1 thread,
 /// docs/performance.md, session 38), else as doubles; the same sums either way.
-/// Test: `InternalForce.LinearCellRunsAddAsOneParticleAtATime`.
+/// Tests: `InternalForce.LinearWindowRunsAddAsOneParticleAtATime`,
+/// `InternalForce.GimpWindowRunsAddAsOneParticleAtATime`.
 template <class Shape, bool Counted>
-void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleData& data,
+void internal_force_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
                               const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
                               const Quantum& quantum, const Quantum& mass_quantum) {
-  constexpr int N = 8, B = cell_run_block;
+  constexpr int n = Shape::nodes, N = n * n * n, B = window_run_block;
   using Sums = UnitSums<Counted>;
   using Sum = typename Sums::Sum;
   scatter_from_particle_runs("mpmice::internal_force", count, KOKKOS_LAMBDA(long lo, long hi) {
@@ -102,7 +109,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
       const double mp = data(p, column(ParticleField::mass));
       double kept_weight[N], force[3][N];
       unrolled_for<N>([&](int a) {
-        const int ia = a >> 2, ib = (a >> 1) & 1, ic = a & 1;
+        const int ia = a / (n * n), ib = (a / n) % n, ic = a % n;
         const double S = wt.weight(ia, ib, ic);
         double g[3];
         wt.gradient(ia, ib, ic, g);
@@ -154,7 +161,7 @@ void internal_force_cell_runs(const NodeGrid& grid, long count, const ParticleDa
         for (int a = 0; a < N; ++a) minus[d][a] = 0;
       added = 0;
     };
-    over_cell_run_blocks(lo, hi, block_first, weigh, add, add_run);
+    over_window_run_blocks(lo, hi, block_first, weigh, add, add_run);
   });
 }
 
@@ -183,13 +190,10 @@ void internal_force(const NodeGrid& grid, long count, const ParticleData& data, 
   const Quantum quantum(q.internal_force), mass_quantum(q.mass);
   const NodeStencil<n> rows = block_stencil<n>(fint[0]);
   const NodeScatter& scatter = scratch.zeroed("mpmice::internal_force", fint[0], 3);
-  if constexpr (n == 2) {
-    if (quantum.q > 0)
-      detail::internal_force_cell_runs<Shape, true>(grid, count, data, scatter, rows, quantum, mass_quantum);
-    else
-      detail::internal_force_cell_runs<Shape, false>(grid, count, data, scatter, rows, quantum, mass_quantum);
-  } else
-    detail::internal_force_each_particle<Shape>(grid, count, data, scatter, rows, quantum, mass_quantum);
+  if (quantum.q > 0)
+    detail::internal_force_window_runs<Shape, true>(grid, count, data, scatter, rows, quantum, mass_quantum);
+  else
+    detail::internal_force_window_runs<Shape, false>(grid, count, data, scatter, rows, quantum, mass_quantum);
   detail::add_force_scatter_into(scatter, fint, m, quantum);
 }
 

@@ -48,11 +48,11 @@ inline Kokkos::Array<Quantum, p2g_fields> p2g_quanta(const SumQuanta& q) {
           q.external_force};
 }
 
-/// p2g's scatter for shapes whose nodes differ between particles of one cell (GIMP):
-/// particle by particle, node by node, a node's 8 fields after the mass as one vector
-/// operation (1.2-1.65x against field by field, docs/performance.md, session 15). A node
-/// whose share of the mass rounds to zero gets nothing at all, so that no node has
-/// momentum or force without mass (internal_force, with quanta, skips it too).
+/// p2g's scatter particle by particle, node by node, a node's 8 fields after the mass as
+/// one vector operation: the reference that p2g_window_runs, which p2g takes, must
+/// match (the tests compare them). A node whose share of the mass rounds to zero gets
+/// nothing at all, so that no node has momentum or force without mass (internal_force,
+/// with quanta, skips it too). GIMP took this path until session 41.
 template <class Shape>
 void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                        const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
@@ -81,34 +81,35 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
   });
 }
 
-/// Particles per block of `over_cell_run_blocks`: on the host 32 (16 and 64 ran
+/// Particles per block of `over_window_run_blocks`: on the host 32 (16 and 64 ran
 /// 0.95-1.0x as fast in p2g), on a GPU 1 (a thread takes one particle, and its block
 /// arrays stay small).
 #if defined(MPMICE_DEVICE_BACKEND)
-constexpr int cell_run_block = 1;
+constexpr int window_run_block = 1;
 #else
-constexpr int cell_run_block = 32;
+constexpr int window_run_block = 32;
 #endif
 
-/// The particle loop of a scatter by cell runs (p2g_cell_runs, internal_force_cell_runs)
-/// over particles [lo, hi), a block of `cell_run_block` particles at a time. First, in
-/// one vector loop over the block's particles (lanes are particles), `weigh(p, i)` stores
-/// what particle p, the block's i-th, adds into the nodes of its cell, and its first
-/// node's row in `block_first[i]`. Then, particle by particle, `add(i)` adds the block's
-/// particle i into the run's sums, and `add_run(first)` adds them into the nodes from
-/// row `first` (and zeroes them) after the last particle of the run's cell, which may
-/// come in a later block. Until session 41 one loop did both for each particle in turn:
-/// a particle's weights fed the run's sums in a chain of some 60 cycles, which
-/// out-of-order execution overlapped for only two or three particles (p2g 1.4x and
-/// internal_force 1.7x faster apart on 1 thread, docs/performance.md, session 41). The
-/// run's inner loop calls nothing else, so the compiler keeps the run's sums in
-/// registers through it.
+/// The particle loop of a scatter by window runs (p2g_window_runs,
+/// internal_force_window_runs) over particles [lo, hi), a block of `window_run_block`
+/// particles at a time. First, in one vector loop over the block's particles (lanes are
+/// particles), `weigh(p, i)` stores what particle p, the block's i-th, adds into the
+/// nodes of its window, and its first node's row in `block_first[i]`. Then, particle by
+/// particle, `add(i)` adds the block's particle i into the run's sums, and
+/// `add_run(first)` adds them into the nodes from row `first` (and zeroes them) after
+/// the last particle of the run's window, which may come in a later block. Until
+/// session 41 one loop did both for each particle in turn (and GIMP scattered particle by
+/// particle): a particle's weights fed the run's sums in a chain of some 60 cycles, which
+/// out-of-order execution overlapped for only two or three particles (on 1 thread p2g
+/// 1.35x and internal_force 1.7x faster apart with the linear shape, 2.1x and 2.1x with
+/// GIMP, docs/performance.md, session 41). The run's inner loop calls nothing else, so
+/// the compiler keeps the run's sums in registers through it.
 template <class Weigh, class Add, class AddRun>
-KOKKOS_FORCEINLINE_FUNCTION void over_cell_run_blocks(long lo, long hi, long* block_first, const Weigh& weigh,
-                                                      const Add& add, const AddRun& add_run) {
+KOKKOS_FORCEINLINE_FUNCTION void over_window_run_blocks(long lo, long hi, long* block_first, const Weigh& weigh,
+                                                        const Add& add, const AddRun& add_run) {
   long run_first = -1;  // no run yet: add_run with nothing added adds nothing
-  for (long b0 = lo; b0 < hi; b0 += cell_run_block) {
-    const int n = int(hi - b0 < cell_run_block ? hi - b0 : cell_run_block);
+  for (long b0 = lo; b0 < hi; b0 += window_run_block) {
+    const int n = int(hi - b0 < window_run_block ? hi - b0 : window_run_block);
 #if defined(MPMICE_DEVICE_BACKEND)
     for (int i = 0; i < n; ++i) weigh(b0 + i, long(i));
 #else
@@ -129,12 +130,16 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_run_blocks(long lo, long hi, long* bl
   add_run(run_first);
 }
 
-/// p2g's scatter for shapes whose nodes are the same for every particle of a cell (the
-/// linear shape). Sorted by cell, particles come in runs of one cell: a run adds its
-/// particles' contributions in registers and adds the sums into the scatter once per
-/// node (8 particles per cell: 1/8 of the adds), a node's 8 fields after the mass as one
-/// vector over the fields (as they lie in the node's row of the scatter). A block's
-/// particles are weighed first (over_cell_run_blocks): each node's weight kept (0 for
+/// p2g's scatter by runs of particles of one window, the nodes their shape reaches (the
+/// linear shape's 8 around a cell, GIMP's 27 around a node). Sorted by window
+/// (particle_sort.hpp), particles come in such runs: a run adds its particles'
+/// contributions in registers (or, GIMP's 27 nodes, in the stack's first cache lines)
+/// and adds the sums into the scatter once per node (8 particles per cell: 1/8 of the
+/// adds), a node's 8 fields after the mass as one vector over the fields (as they lie in
+/// the node's row of the scatter). Unsorted particles make runs of one; they take the
+/// same path (GIMP particles in cell order, runs of 1-2: 1.1x p2g_each_particle on 1
+/// thread). A block's particles are weighed first (over_window_run_blocks): each node's
+/// weight kept (0 for
 /// a node whose share of the mass rounds to zero: it gets nothing, as in
 /// p2g_each_particle) and that share, stored node by node (a run reads one particle's
 /// as a scalar, broadcast), and the values of the other fields, stored particle by
@@ -146,9 +151,9 @@ KOKKOS_FORCEINLINE_FUNCTION void over_cell_run_blocks(long lo, long hi, long* bl
 /// order differs from p2g_each_particle's: without quanta a node's value changes at
 /// round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
-void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
+void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                    const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
-  constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields, B = cell_run_block;
+  constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields, B = window_run_block;
   using Sums = UnitSums<Counted>;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
@@ -165,7 +170,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       p2g_values(data, p, quanta, value);
       unrolled_for<F - 1>([&](int f) { block_value[i][f] = value[f + 1]; });
       unrolled_for<N>([&](int a) {
-        const double S = wt.weight(a >> 2, (a >> 1) & 1, a & 1);
+        const double S = wt.weight(a / (n * n), (a / n) % n, a % n);
         const double mass = quantum[0].in_units(S * value[0]);
         block_kept[a][i] = mass != 0.0 ? S : 0.0;
         block_mass[a][i] = mass;
@@ -196,7 +201,7 @@ void p2g_cell_runs(const NodeGrid& grid, long count, const ParticleData& data, c
       });
       added = 0;
     };
-    over_cell_run_blocks(lo, hi, block_first, weigh, add, add_run);
+    over_window_run_blocks(lo, hi, block_first, weigh, add, add_run);
   });
 }
 
@@ -222,13 +227,10 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
   const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, detail::p2g_fields);
   const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
   const Kokkos::Array<Quantum, detail::p2g_fields> quantum = detail::p2g_quanta(q);
-  if constexpr (Shape::nodes == 2) {
-    if (QuantumArray<detail::p2g_fields>(quantum).counted_from(1))
-      detail::p2g_cell_runs<Shape, true>(grid, count, data, scatter, rows, quantum);
-    else
-      detail::p2g_cell_runs<Shape, false>(grid, count, data, scatter, rows, quantum);
-  } else
-    detail::p2g_each_particle<Shape>(grid, count, data, scatter, rows, quantum);
+  if (QuantumArray<detail::p2g_fields>(quantum).counted_from(1))
+    detail::p2g_window_runs<Shape, true>(grid, count, data, scatter, rows, quantum);
+  else
+    detail::p2g_window_runs<Shape, false>(grid, count, data, scatter, rows, quantum);
   detail::add_p2g_scatter_into(scatter, sums, m, quantum);
 }
 
