@@ -64,29 +64,28 @@ void internal_force_each_particle(const NodeGrid& grid, long count, const Partic
 /// internal_force's scatter by runs of particles of one window: as p2g_window_runs, a
 /// run adds its particles' forces counted in quanta (Quantum::in_units), and into the
 /// scatter once per node. A block's particles find their forces first, in one vector
-/// loop over the particles (over_window_run_blocks); a particle's node of largest weight
-/// is found in the nodes' order, and a node whose share of the mass rounds to zero gets
-/// no force, as in internal_force_each_particle. That one also skips a node of no
-/// gradient; such a node of weight is one a GIMP particle sits exactly on (dw = 0 along
-/// all three directions), and then the forces on its other nodes cancel in pairs
+/// loop over the particles (over_window_run_blocks); a particle's node of largest
+/// weight is found in the nodes' order, and a node whose share of the mass rounds to
+/// zero gets no force, as in internal_force_each_particle. That one also skips a node
+/// of no gradient; such a node of weight is one a GIMP particle sits exactly on (dw = 0
+/// along all three directions), and then the forces on its other nodes cancel in pairs
 /// (opposite gradients, exactly), so the remainder `given` is 0 and which node takes it
-/// does not matter. With quanta the sums are
-/// exact, so they do not depend on how the particles split into runs or threads, and
-/// built with MPMICE_REPRODUCIBLE they are bit for bit those of
-/// internal_force_each_particle. Without it GCC may fuse a different product of
-/// sigma . grad S into an FMA in the vector loop than in the scalar one, so a force
-/// within an ulp of half a quantum can round to the other neighbour (one contribution
-/// in a 300-step container run with linear shapes). Without quanta the sums' order
-/// differs too (a node gets given - f, not -f then + given), so they change at
-/// round-off. With `Counted` (a quantum, as in the driver) the run sums the forces'
-/// units as integers (UnitCount, as p2g_window_runs: 1.0-1.2x on 1 thread,
+/// does not matter. With quanta the sums are exact, so they do not depend on how the
+/// particles split into runs or threads, and built with MPMICE_REPRODUCIBLE they are
+/// bit for bit those of internal_force_each_particle. Without it GCC may fuse a
+/// different product of sigma . grad S into an FMA in the vector loop than in the
+/// scalar one, so a force within an ulp of half a quantum can round to the other
+/// neighbour (one contribution in a 300-step container run with linear shapes). Without
+/// quanta the sums' order differs too (a node gets given - f, not -f then + given), so
+/// they change at round-off. With `Counted` (a quantum, as in the driver) the run sums
+/// the forces' units as integers (UnitCount, as p2g_window_runs: 1.0-1.2x on 1 thread,
 /// docs/performance.md, session 38), else as doubles; the same sums either way.
 /// Tests: `InternalForce.LinearWindowRunsAddAsOneParticleAtATime`,
 /// `InternalForce.GimpWindowRunsAddAsOneParticleAtATime`.
 template <class Shape, bool Counted>
 void internal_force_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
-                              const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
-                              const Quantum& quantum, const Quantum& mass_quantum) {
+                                const NodeScatter& scatter, const NodeStencil<Shape::nodes>& rows,
+                                const Quantum& quantum, const Quantum& mass_quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, B = window_run_block;
   using Sums = UnitSums<Counted>;
   using Sum = typename Sums::Sum;

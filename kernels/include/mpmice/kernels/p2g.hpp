@@ -135,24 +135,23 @@ KOKKOS_FORCEINLINE_FUNCTION void over_window_run_blocks(long lo, long hi, long* 
 /// (particle_sort.hpp), particles come in such runs: a run adds its particles'
 /// contributions in registers (or, GIMP's 27 nodes, in the stack's first cache lines)
 /// and adds the sums into the scatter once per node (8 particles per cell: 1/8 of the
-/// adds), a node's 8 fields after the mass as one vector over the fields (as they lie in
-/// the node's row of the scatter). Unsorted particles make runs of one; they take the
-/// same path (GIMP particles in cell order, runs of 1-2: 1.1x p2g_each_particle on 1
-/// thread). A block's particles are weighed first (over_window_run_blocks): each node's
-/// weight kept (0 for
-/// a node whose share of the mass rounds to zero: it gets nothing, as in
-/// p2g_each_particle) and that share, stored node by node (a run reads one particle's
-/// as a scalar, broadcast), and the values of the other fields, stored particle by
-/// particle (read as a vector over them). The run counts each contribution in its
-/// quantum, as the scatter holds them (add_scatter_into): with `Counted` (every field
-/// after the mass has a quantum, as in the driver) in 64-bit integers, the bits of x +
-/// magic added (UnitCount: 1.1-1.4x against the rounded doubles on 1 thread,
+/// adds), a node's 8 fields after the mass as one vector over the fields (as they lie
+/// in the node's row of the scatter). Unsorted particles make runs of one; they take
+/// the same path (GIMP particles in cell order, runs of 1-2: 1.1x p2g_each_particle on
+/// 1 thread). A block's particles are weighed first (over_window_run_blocks): each
+/// node's weight kept (0 for a node whose share of the mass rounds to zero: it gets
+/// nothing, as in p2g_each_particle) and that share, stored node by node (a run reads
+/// one particle's as a scalar, broadcast), and the values of the other fields, stored
+/// particle by particle (read as a vector over them). The run counts each contribution
+/// in its quantum, as the scatter holds them (add_scatter_into): with `Counted` (every
+/// field after the mass has a quantum, as in the driver) in 64-bit integers, the bits
+/// of x + magic added (UnitCount: 1.1-1.4x against the rounded doubles on 1 thread,
 /// docs/performance.md, session 38), else as the doubles (x + magic) - magic. The sums'
 /// order differs from p2g_each_particle's: without quanta a node's value changes at
 /// round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
 void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
-                   const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
+                     const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields, B = window_run_block;
   using Sums = UnitSums<Counted>;
   const QuantumArray<F> quanta(quantum);
