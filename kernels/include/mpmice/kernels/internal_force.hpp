@@ -108,10 +108,9 @@ void internal_force_window_runs(const NodeGrid& grid, long count, const Particle
       const double mp = data(p, column(ParticleField::mass));
       double kept_weight[N], force[3][N];
       unrolled_for<N>([&](int a) {
-        const int ia = a / (n * n), ib = (a / n) % n, ic = a % n;
-        const double S = wt.weight(ia, ib, ic);
+        const double S = wt.weight(a);
         double g[3];
-        wt.gradient(ia, ib, ic, g);
+        wt.gradient(a, g);
         const double kept = mass_quantum.in_units(S * mp) + mass_quantum.unrounded;
         const double f0 = vol_units * (stress(0, 0) * g[0] + stress(0, 1) * g[1] + stress(0, 2) * g[2]);
         const double f1 = vol_units * (stress(1, 0) * g[0] + stress(1, 1) * g[1] + stress(1, 2) * g[2]);

@@ -82,7 +82,7 @@ void p2g_each_particle(const NodeGrid& grid, long count, const ParticleData& dat
 }
 
 /// Particles per block of `over_window_run_blocks`: on the host 32 (16 and 64 ran
-/// 0.95-1.0x as fast in p2g), on a GPU 1 (a thread takes one particle, and its block
+/// 0.92-1.0x as fast in p2g), on a GPU 1 (a thread takes one particle, and its block
 /// arrays stay small).
 #if defined(MPMICE_DEVICE_BACKEND)
 constexpr int window_run_block = 1;
@@ -169,7 +169,7 @@ void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
       p2g_values(data, p, quanta, value);
       unrolled_for<F - 1>([&](int f) { block_value[i][f] = value[f + 1]; });
       unrolled_for<N>([&](int a) {
-        const double S = wt.weight(a / (n * n), (a / n) % n, a % n);
+        const double S = wt.weight(a);
         const double mass = quantum[0].in_units(S * value[0]);
         block_kept[a][i] = mass != 0.0 ? S : 0.0;
         block_mass[a][i] = mass;

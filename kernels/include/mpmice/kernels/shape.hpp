@@ -89,6 +89,16 @@ struct ParticleWeights {
     g[1] = w[0][a] * dw[1][b] * w[2][c];
     g[2] = w[0][a] * w[1][b] * dw[2][c];
   }
+  /// The same for node i = (a n + b) n + c of the window (n = Shape::nodes), the order
+  /// of NodeStencil::steps.
+  KOKKOS_INLINE_FUNCTION double weight(int i) const {
+    constexpr int n = Shape::nodes;
+    return weight(i / (n * n), i / n % n, i % n);
+  }
+  KOKKOS_INLINE_FUNCTION void gradient(int i, double* g) const {
+    constexpr int n = Shape::nodes;
+    gradient(i / (n * n), i / n % n, i % n, g);
+  }
 };
 
 }  // namespace mpmice
