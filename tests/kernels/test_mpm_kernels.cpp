@@ -891,22 +891,26 @@ TEST(Quanta, CountedUnitsSumExactly) {
 
 // Sorted by the window of Shape (sort_particles_by_window), every particle is kept with
 // all its values, and their windows' middle nodes (the cell for the linear shape, the
-// nearest node for GIMP, local indices) come in row-major order; sorted again, nothing
-// moves.
+// nearest node for GIMP, local indices) come in row-major order, the particles of one
+// window in their order before the sort (stable: the same order on any number of
+// threads); sorted again, nothing moves.
 template <class Shape>
 void expect_sorted_by_window() {
   Grid g;
   g.cells = {4, 4, 4};
   const Patch patch = whole_grid_patch(g, 2);
-  ParticleSet ps("s", 300);
-  ps.resize(300);
+  // Enough particles (about 14 a window) that on 2 threads most windows get some from
+  // each thread.
+  const long n = 10000;
+  ParticleSet ps("s", n);
+  ps.resize(n);
   auto h = Kokkos::create_mirror_view(ps.data());
   auto id = Kokkos::create_mirror_view(ps.id());
   std::mt19937 rng(2);
   // The 4 owned cells, the 2 ghost cells either side, and a little past them (sorted
   // as if on the edge: the key's clamp).
   std::uniform_real_distribution<double> u(-2.4, 6.4);
-  for (long p = 0; p < 300; ++p) {
+  for (long p = 0; p < n; ++p) {
     for (int c = 0; c < particle_field_count; ++c) h(p, c) = p + 0.001 * c;
     for (int d = 0; d < 3; ++d) h(p, column(ParticleField::x) + d) = u(rng);
     id(p) = p;
@@ -916,8 +920,8 @@ void expect_sorted_by_window() {
   sort_particles_by_window<Shape>(patch, ps);
   auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
   auto sid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
-  long last_key = -1, idsum = 0;
-  for (long q = 0; q < 300; ++q) {
+  long last_key = -1, last_id = -1, idsum = 0, out_of_their_order = 0;
+  for (long q = 0; q < n; ++q) {
     const long p = sid(q);
     idsum += p;
     for (int c = 0; c < particle_field_count; ++c) ASSERT_EQ(s(q, c), h(p, c));
@@ -928,15 +932,18 @@ void expect_sorted_by_window() {
       key = key * 16 + std::clamp(c, 0L, 8L);
     }
     EXPECT_GE(key, last_key);
+    out_of_their_order += key == last_key && p < last_id;
     last_key = key;
+    last_id = p;
   }
-  EXPECT_EQ(idsum, 299L * 300 / 2);
+  EXPECT_EQ(out_of_their_order, 0) << "particles of one window not in their order before the sort";
+  EXPECT_EQ(idsum, (n - 1) * n / 2);
   // Sorted again, already in order: nothing moves, the same views are kept (no gather).
   const double* before = ps.data().data();
   sort_particles_by_window<Shape>(patch, ps);
   EXPECT_EQ(ps.data().data(), before);
   auto again = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.id());
-  for (long q = 0; q < 300; ++q) ASSERT_EQ(again(q), sid(q));
+  for (long q = 0; q < n; ++q) ASSERT_EQ(again(q), sid(q));
 }
 
 TEST(Transfer, SortByCellKeepsEveryParticle) { expect_sorted_by_window<LinearShape>(); }

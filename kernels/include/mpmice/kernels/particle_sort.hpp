@@ -5,14 +5,15 @@
 ///        memory: for the linear shape the cell they are in; for GIMP the node nearest
 ///        them (its 27 nodes depend on which half of its cell a particle is in). The
 ///        scatters add runs of them together and g2p reads their nodes once per group
-///        (p2g.hpp, node_reads.hpp). A counting sort (Kokkos::BinSort). It is not
-///        stable on more than one thread: BinSort places a bin's particles with
-///        atomics, so their order among themselves varies from run to run. The step's
-///        sums do not depend on it (p2g and the internal force add in exact quanta,
-///        g2p reads per particle); sums in particle order do, at round-off (the
-///        history's particle totals: crossflow's beam momentum on 2 threads, 17th digit),
-///        and, built without MPMICE_REPRODUCIBLE, a particle in a loop's scalar tail, by
-///        an ulp (docs/design.md, "Order-independent particle sums").
+///        (p2g.hpp, node_reads.hpp). A counting sort (Kokkos::BinSort), made stable:
+///        BinSort places a bin's particles with atomics, so on more than one thread
+///        their order among themselves varied from run to run, and with it sums taken
+///        in particle order (the history's particle totals, in their last digits:
+///        crossflow's beam momentum on 2 threads) and, built without
+///        MPMICE_REPRODUCIBLE, a particle's arithmetic in a loop's scalar tail, by an
+///        ulp (docs/design.md, "Order-independent particle sums"). Each bin's particles
+///        are put back in their order before the sort, so the order after it is the
+///        same on any number of threads.
 #include <Kokkos_Sort.hpp>
 
 #include <mpmice/kernels/particle_grid.hpp>
@@ -56,7 +57,22 @@ void sort_particles_by_window(const Patch& patch, ParticleSet& particles) {
   using Comp = Kokkos::BinOp1D<Kokkos::View<int*, MemSpace>>;
   Kokkos::BinSort<Kokkos::View<int*, MemSpace>, Comp> sorter(key, Comp(nbin, 0, nbin), /*sort_within_bins=*/false);
   sorter.create_permute_vector();
-  particles = gather_particles(particles, sorter.get_permute_vector(), n);
+  // A bin's entries are the particles' places before the sort: an insertion sort of
+  // each bin (a few particles per cell or node) puts them in that order.
+  const auto order = sorter.get_permute_vector();
+  const auto bin_start = sorter.get_bin_offsets();
+  const auto bin_size = sorter.get_bin_count();
+  Kokkos::parallel_for(
+      "mpmice::stable_bins", Kokkos::RangePolicy<ExecSpace>(0, nbin), KOKKOS_LAMBDA(int b) {
+        const long lo = long(bin_start(b)), size = long(bin_size(b));
+        for (long i = lo + 1; i < lo + size; ++i) {
+          const auto place = order(i);
+          long j = i;
+          for (; j > lo && order(j - 1) > place; --j) order(j) = order(j - 1);
+          order(j) = place;
+        }
+      });
+  particles = gather_particles(particles, order, n);
 }
 
 /// Reorders the live particles of `particles` by cell (the linear shape's windows).
