@@ -67,47 +67,61 @@ inline double max_outflux_fraction(const IndexBox& cells, const Kokkos::Array<do
 
 namespace detail {
 
+// The limited gradient of q (material m) at cell (i, j, k), whose value is qc (E41):
+// central differences, limited so that no vertex value leaves the range of the cell
+// and its six neighbours. With Compatible (E43) the vertex values are
+// q_c + (G . dv) m_c / m_vertex, from the cell's mass mc and the mass's limited
+// gradient gm. Shared by limited_gradient, which stores it, and the outflux pass of
+// limited_advection_change, which uses it where it is made.
+template <bool Compatible>
+KOKKOS_FORCEINLINE_FUNCTION void limited_gradient_at(const ConstField4& q, int m, long i, long j, long k,
+                                                     const double* h, double qc, double mc, const double* gm,
+                                                     double* grad) {
+  const double nb[6] = {q(m, i - 1, j, k), q(m, i + 1, j, k), q(m, i, j - 1, k),
+                        q(m, i, j + 1, k), q(m, i, j, k - 1), q(m, i, j, k + 1)};
+  double g[3], qmax = qc, qmin = qc;
+  unrolled_for<3>([&](int d) { g[d] = (nb[2 * d + 1] - nb[2 * d]) / (2.0 * h[d]); });
+  unrolled_for<6>([&](int f) {
+    qmax = nb[f] > qmax ? nb[f] : qmax;
+    qmin = nb[f] < qmin ? nb[f] : qmin;
+  });
+  double vmax = qc, vmin = qc;
+  unrolled_for<8>([&](int v) {
+    double dq = 0, dm = 0;
+    unrolled_for<3>([&](int d) {
+      const double half = ((v >> d) & 1 ? 0.5 : -0.5) * h[d];
+      dq += g[d] * half;
+      if (Compatible) dm += gm[d] * half;
+    });
+    if (Compatible) dq *= mc / (mc + dm);
+    const double qv = qc + dq;
+    vmax = qv > vmax ? qv : vmax;
+    vmin = qv < vmin ? qv : vmin;
+  });
+  constexpr double eps = 1.0e-100;
+  double phi = 1.0;
+  const double up = (qmax - qc + eps) / (vmax - qc + eps);
+  const double down = (qmin - qc - eps) / (vmin - qc - eps);
+  phi = up < phi ? up : phi;
+  phi = down < phi ? down : phi;
+  phi = phi > 0.0 ? phi : 0.0;
+  unrolled_for<3>([&](int d) { grad[d] = phi * g[d]; });
+}
+
 // limited_gradient() with the compatible choice a template argument.
 template <bool Compatible>
 void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 3> h, const ConstField4& q, int m,
                       const ConstField4& mass, const GradientField& mass_grad, const GradientField& grad) {
   for_each_index<Rows::longest>(
       "mpmice::limited_gradient", cells, KOKKOS_LAMBDA(long i, long j, long k) {
-        const double qc = q(m, i, j, k);
-        const double nb[6] = {q(m, i - 1, j, k), q(m, i + 1, j, k), q(m, i, j - 1, k),
-                              q(m, i, j + 1, k), q(m, i, j, k - 1), q(m, i, j, k + 1)};
-        double g[3], qmax = qc, qmin = qc;
-        unrolled_for<3>([&](int d) { g[d] = (nb[2 * d + 1] - nb[2 * d]) / (2.0 * h[d]); });
-        unrolled_for<6>([&](int f) {
-          qmax = nb[f] > qmax ? nb[f] : qmax;
-          qmin = nb[f] < qmin ? nb[f] : qmin;
-        });
-        double mc = 0, gm[3] = {0, 0, 0};
+        const double hd[3] = {h[0], h[1], h[2]};
+        double mc = 0, gm[3] = {0, 0, 0}, g[3];
         if (Compatible) {
           mc = mass(m, i, j, k);
           unrolled_for<3>([&](int d) { gm[d] = mass_grad[d](i, j, k); });
         }
-        double vmax = qc, vmin = qc;
-        unrolled_for<8>([&](int v) {
-          double dq = 0, dm = 0;
-          unrolled_for<3>([&](int d) {
-            const double half = ((v >> d) & 1 ? 0.5 : -0.5) * h[d];
-            dq += g[d] * half;
-            dm += gm[d] * half;
-          });
-          if (Compatible) dq *= mc / (mc + dm);
-          const double qv = qc + dq;
-          vmax = qv > vmax ? qv : vmax;
-          vmin = qv < vmin ? qv : vmin;
-        });
-        constexpr double eps = 1.0e-100;
-        double phi = 1.0;
-        const double up = (qmax - qc + eps) / (vmax - qc + eps);
-        const double down = (qmin - qc - eps) / (vmin - qc - eps);
-        phi = up < phi ? up : phi;
-        phi = down < phi ? down : phi;
-        phi = phi > 0.0 ? phi : 0.0;
-        unrolled_for<3>([&](int d) { grad[d](i, j, k) = phi * g[d]; });
+        limited_gradient_at<Compatible>(q, m, i, j, k, hd, q(m, i, j, k), mc, gm, g);
+        unrolled_for<3>([&](int d) { grad[d](i, j, k) = g[d]; });
       });
 }
 
@@ -128,9 +142,10 @@ inline void limited_gradient(const IndexBox& cells, const Kokkos::Array<double, 
 namespace detail {
 
 // The value carried by slab f of cell c (E42/E43); first order when there is no
-// gradient. The two choices are template arguments, so that each of the four kernels
-// carries only its own arithmetic.
-template <bool SecondOrder, bool Compatible>
+// gradient. The choices are template arguments, so that each kernel carries only its
+// own arithmetic. With InlineGradient (second order) q's limited gradient is made from
+// q's neighbours when the cell is loaded (limited_gradient_at), not read from `grad`.
+template <bool SecondOrder, bool Compatible, bool InlineGradient = false>
 struct SlabValue {
   static constexpr bool second_order = SecondOrder;  // uses the six outflux distances d
   ConstField4 q, mass;
@@ -146,9 +161,10 @@ struct SlabValue {
     Cell c{q(m, i, j, k), Compatible ? mass(m, i, j, k) : 1.0, {0, 0, 0}, {0, 0, 0}};
     if (SecondOrder)
       unrolled_for<3>([&](int d) {
-        c.gq[d] = grad[d](i, j, k);
+        if (!InlineGradient) c.gq[d] = grad[d](i, j, k);
         if (Compatible) c.gm[d] = mass_grad[d](i, j, k);
       });
+    if (SecondOrder && InlineGradient) limited_gradient_at<Compatible>(q, m, i, j, k, h, c.qc, c.mc, c.gm, c.gq);
     return c;
   }
   // The value of slab f of a cell whose values are `c`.
@@ -172,12 +188,13 @@ struct SlabValue {
 };
 
 // Calls f(slab) with the SlabValue of q that `second_order` and `mass` (compatible when
-// given) choose.
-template <class F>
+// given) choose, its gradient made inline with InlineGradient (second order).
+template <bool InlineGradient = false, class F>
 void with_slab(bool second_order, const ConstField4& q, const ConstField4& mass, const GradientField& grad,
                const GradientField& mass_grad, int m, const Kokkos::Array<double, 3> h, F&& f) {
   auto call = [&](auto second, auto compatible) {
-    f(SlabValue<decltype(second)::value, decltype(compatible)::value>{q, mass, grad, mass_grad, m, {h[0], h[1], h[2]}});
+    using Slab = SlabValue<decltype(second)::value, decltype(compatible)::value, InlineGradient>;
+    f(Slab{q, mass, grad, mass_grad, m, {h[0], h[1], h[2]}});
   };
   using yes = std::integral_constant<bool, true>;
   using no = std::integral_constant<bool, false>;
@@ -336,11 +353,13 @@ inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
 // The second-order outfluxes of `cells` and of the layer of cells around them (the
 // fluxes through the cells' faces need both sides), into `scratch`, allocated here
 // with the extents of q's cell arrays if empty. The layer's edge and corner
-// cells are computed too (one box, one pass) and never used.
-inline CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
-                                            const ConstVectorField4& U, int m, const ConstField4& q,
-                                            const ConstField4& mass, const GradientField& grad,
-                                            const GradientField& mass_grad, CellOutfluxes scratch) {
+// cells are computed too (one box, one pass) and never used. With InlineGradient,
+// q's limited gradient is made in the same pass (`grad` is not read).
+template <bool InlineGradient = false>
+CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                                     const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
+                                     const GradientField& grad, const GradientField& mass_grad,
+                                     CellOutfluxes scratch) {
   if (scratch[0].data() == nullptr)
     for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", q.extent(1), q.extent(2), q.extent(3));
   IndexBox around = cells;
@@ -348,7 +367,7 @@ inline CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos:
     around.lo[d] -= 1;
     around.hi[d] += 1;
   }
-  with_slab(true, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
+  with_slab<InlineGradient>(true, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
     if constexpr (std::decay_t<decltype(slab)>::second_order)
       cell_outfluxes(around, dt, face_areas(h), U, m, slab, scratch);
   });
@@ -413,6 +432,46 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
       detail::change_from_fluxes("mpmice::first_order_change", cells, inv_volume, first_order, m, change);
     });
   }
+}
+
+/// Boxes of at least this many cells take limited_advection_change's one pass over the
+/// outfluxes with the gradient limited in it; smaller boxes two passes, the gradient
+/// stored and read back. One pass saves writing and reading 3 arrays, which pays once
+/// they come from memory (1.02-1.21x at 64^3 and 128^3 cells); in cache its longer
+/// loop body runs slower (0.84-1.01x at 16^3 and 32^3; docs/performance.md, session 43).
+constexpr long advection_inline_gradient_cells = 1L << 17;
+
+/// Adv[Q] to second order on `cells` (E41-E43) with q's limited gradient, written to
+/// `change(m, ...)`: the same values as limited_gradient of q on the cells and the
+/// layer around them, then advection_change with that gradient (bit for bit in a build
+/// without fused multiply-adds, MPMICE_REPRODUCIBLE). Boxes of `inline_from` cells or
+/// more take one pass over the outfluxes that limits each cell's gradient itself
+/// (limited_gradient_at) instead of storing it in `grad` (allocated here if empty and
+/// needed). q must be valid two cells beyond `cells`; compatible when `mass` is given,
+/// with `mass_grad` the mass's limited gradient on the cells and the layer around
+/// them; `scratch` as advection_change.
+inline void limited_advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                                     const ConstVectorField4& U, int m, const ConstField4& q,
+                                     const ConstField4& mass, const GradientField& mass_grad, const Field4& change,
+                                     CellOutfluxes scratch = CellOutfluxes(), GradientField grad = GradientField(),
+                                     long inline_from = advection_inline_gradient_cells) {
+  if (cells.size() < inline_from) {
+    if (grad[0].data() == nullptr)
+      for (int d = 0; d < 3; ++d) grad[d] = Field3("advection_gradient", q.extent(1), q.extent(2), q.extent(3));
+    IndexBox around = cells;
+    for (int d = 0; d < 3; ++d) {
+      around.lo[d] -= 1;
+      around.hi[d] += 1;
+    }
+    limited_gradient(around, h, q, m, mass, mass_grad, grad);
+    advection_change(cells, h, dt, U, m, q, mass, true, grad, mass_grad, change, scratch);
+    return;
+  }
+  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
+  const CellOutfluxes out =
+      detail::second_order_outfluxes<true>(cells, h, dt, U, m, q, mass, GradientField(), mass_grad, scratch);
+  detail::change_from_fluxes("mpmice::outflux_difference", cells, inv_volume, detail::OutfluxDifference{out}, m,
+                             change);
 }
 
 /// to[d] += from[d] on the faces of `cells` (the fluids' volume fluxes summed over them).
