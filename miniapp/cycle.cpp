@@ -877,16 +877,19 @@ void Cycle::add_advection_steps() {
           advection_change(owned, h, dt, U, m, mass, ConstField4(), second_order, m_mass_grad,
                            GradientField(), m_adv_mass, m_outflux);
           advance_density(owned, V, m, mass, m_adv_mass, rho_new);
+          // Adv[m q] of a mass-specific quantity q into m_adv_q (compatible fluxes, E43).
+          const auto advect_specific = [&](const ConstField4& q) {
+            if (second_order)
+              limited_advection_change(owned, h, dt, U, m, q, mass, m_mass_grad, m_adv_q, m_outflux, m_grad);
+            else
+              advection_change(owned, h, dt, U, m, q, mass, false, GradientField(), GradientField(), m_adv_q);
+          };
           for (int q = 0; q < 5; ++q) {
-            if (second_order) limited_gradient(around, h, q_in[q], m, mass, m_mass_grad, m_grad);
-            advection_change(owned, h, dt, U, m, q_in[q], mass, second_order, m_grad, m_mass_grad, m_adv_q,
-                             m_outflux);
+            advect_specific(q_in[q]);
             advance_specific(owned, V, m, mass, q_in[q], m_adv_q, rho_new, q_out[q]);
           }
           if (ke_fix) {
-            if (second_order) limited_gradient(around, h, m_ke, m, mass, m_mass_grad, m_grad);
-            advection_change(owned, h, dt, U, m, m_ke, mass, second_order, m_grad, m_mass_grad, m_adv_q,
-                             m_outflux);
+            advect_specific(m_ke);
             kinetic_energy_to_heat(owned, V, m, mats.eos[m].cv, mass, m_ke, m_adv_q, rho_new,
                                    ConstVectorField4{vel_new[0], vel_new[1], vel_new[2]}, q_out[3]);
           }
