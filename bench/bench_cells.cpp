@@ -25,6 +25,10 @@
 //                        velocities; writes the change                     -> 96
 //  limited_gradient (compatible, as the driver's second order uses it): reads q, m,
 //                        grad m (3); writes grad q (3)                     -> 64
+//  limited_advection (limited_advection_change, compatible: both of the above as the
+//                        driver moves each mass-specific quantity, one pass from
+//                        2^17 cells on): reads q, m, grad m (3), 3 face velocities;
+//                        writes the change                                 -> 72
 #include <benchmark/benchmark.h>
 
 #include <mpmice/kernels/advection.hpp>
@@ -296,6 +300,21 @@ void BM_limited_gradient(benchmark::State& state) {
   report(state, p.grid.cell_count(), 64.0);
 }
 
+void BM_limited_advection(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Patch p = cube_patch(n);
+  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
+  const CompatibleFields f(p, h);
+  const Field4 change = make_field("dq", p, Location::cell, 1);
+  const ConstVectorField4 U = face_velocities(p);
+  const CellOutfluxes scratch = make_cell_outfluxes("outflux", p);
+  for (auto _ : state)
+    state.SetIterationTime(timed([&] {
+      limited_advection_change(p.owned_cells(), h, 1e-7, U, 0, f.q, f.mass, f.mass_grad, change, scratch, f.grad);
+    }));
+  report(state, p.grid.cell_count(), 72.0);
+}
+
 }  // namespace
 
 BENCHMARK(BM_equilibrate_pressure)->Apply(cell_sizes)->UseManualTime();
@@ -308,3 +327,4 @@ BENCHMARK(BM_pressure_work_heat)->Apply(cell_sizes)->UseManualTime();
 BENCHMARK(BM_advection_first_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_advection_second_order)->Apply(cube_sizes)->UseManualTime();
 BENCHMARK(BM_limited_gradient)->Apply(cube_sizes)->UseManualTime();
+BENCHMARK(BM_limited_advection)->Apply(cube_sizes)->UseManualTime();
