@@ -257,14 +257,21 @@ void BM_advection_first_order(benchmark::State& state) {
   report(state, p.grid.cell_count(), 40.0);
 }
 
-// A quantity q and its mass around 1 and 1e-9 (+-10%), the mass's limited gradient, and
-// room for q's: what the driver's second-order, compatible advection works with.
+// A quantity q and its mass around 1 and 1e-9 (+-10%), the mass's limited gradient,
+// room for q's, face velocities and the change: what the driver's second-order,
+// compatible advection works with, on a cube of n^3 cells.
 struct CompatibleFields {
-  Field4 q, mass;
+  Patch p;
+  Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
+  Field4 q, mass, change;
   GradientField mass_grad, grad;
+  ConstVectorField4 U;
+  CellOutfluxes scratch;
 
-  CompatibleFields(const Patch& p, const Kokkos::Array<double, 3> h)
-      : q(cell_field(p, 1, 1.0, 0.1, 1)), mass(cell_field(p, 1, 1e-9, 0.1, 5)) {
+  explicit CompatibleFields(int n)
+      : p(cube_patch(n)), q(cell_field(p, 1, 1.0, 0.1, 1)), mass(cell_field(p, 1, 1e-9, 0.1, 5)),
+        change(make_field("dq", p, Location::cell, 1)), U(face_velocities(p)),
+        scratch(make_cell_outfluxes("outflux", p)) {
     for (int d = 0; d < 3; ++d) {
       mass_grad[d] = make_field("gm", p, Location::cell);
       grad[d] = make_field("gq", p, Location::cell);
@@ -274,45 +281,32 @@ struct CompatibleFields {
 };
 
 void BM_advection_second_order(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const Patch p = cube_patch(n);
-  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
-  const CompatibleFields f(p, h);
-  const Field4 change = make_field("dq", p, Location::cell, 1);
-  const ConstVectorField4 U = face_velocities(p);
-  limited_gradient(p.ghosted_cells(1), h, f.q, 0, f.mass, f.mass_grad, f.grad);
-  const CellOutfluxes scratch = make_cell_outfluxes("outflux", p);
+  const CompatibleFields f(int(state.range(0)));
+  limited_gradient(f.p.ghosted_cells(1), f.h, f.q, 0, f.mass, f.mass_grad, f.grad);
   for (auto _ : state)
     state.SetIterationTime(timed([&] {
-      advection_change(p.owned_cells(), h, 1e-7, U, 0, f.q, f.mass, true, f.grad, f.mass_grad, change, scratch);
+      advection_change(f.p.owned_cells(), f.h, 1e-7, f.U, 0, f.q, f.mass, true, f.grad, f.mass_grad, f.change,
+                       f.scratch);
     }));
-  report(state, p.grid.cell_count(), 96.0);
+  report(state, f.p.grid.cell_count(), 96.0);
 }
 
 void BM_limited_gradient(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const Patch p = cube_patch(n);
-  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
-  const CompatibleFields f(p, h);
+  const CompatibleFields f(int(state.range(0)));
   for (auto _ : state)
     state.SetIterationTime(
-        timed([&] { limited_gradient(p.owned_cells(), h, f.q, 0, f.mass, f.mass_grad, f.grad); }));
-  report(state, p.grid.cell_count(), 64.0);
+        timed([&] { limited_gradient(f.p.owned_cells(), f.h, f.q, 0, f.mass, f.mass_grad, f.grad); }));
+  report(state, f.p.grid.cell_count(), 64.0);
 }
 
 void BM_limited_advection(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const Patch p = cube_patch(n);
-  const Kokkos::Array<double, 3> h{1e-3, 1e-3, 1e-3};
-  const CompatibleFields f(p, h);
-  const Field4 change = make_field("dq", p, Location::cell, 1);
-  const ConstVectorField4 U = face_velocities(p);
-  const CellOutfluxes scratch = make_cell_outfluxes("outflux", p);
+  const CompatibleFields f(int(state.range(0)));
   for (auto _ : state)
     state.SetIterationTime(timed([&] {
-      limited_advection_change(p.owned_cells(), h, 1e-7, U, 0, f.q, f.mass, f.mass_grad, change, scratch, f.grad);
+      limited_advection_change(f.p.owned_cells(), f.h, 1e-7, f.U, 0, f.q, f.mass, f.mass_grad, f.change, f.scratch,
+                               f.grad);
     }));
-  report(state, p.grid.cell_count(), 72.0);
+  report(state, f.p.grid.cell_count(), 72.0);
 }
 
 }  // namespace

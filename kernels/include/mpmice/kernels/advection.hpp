@@ -350,6 +350,16 @@ inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
   return {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
 }
 
+// `cells` and the layer of cells around them: where the outfluxes (and the limited
+// gradients they take) are needed for the fluxes through the cells' faces.
+inline IndexBox with_layer_around(IndexBox cells) {
+  for (int d = 0; d < 3; ++d) {
+    cells.lo[d] -= 1;
+    cells.hi[d] += 1;
+  }
+  return cells;
+}
+
 // The second-order outfluxes of `cells` and of the layer of cells around them (the
 // fluxes through the cells' faces need both sides), into `scratch`, allocated here
 // with the extents of q's cell arrays if empty. The layer's edge and corner
@@ -362,11 +372,7 @@ CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<
                                      CellOutfluxes scratch) {
   if (scratch[0].data() == nullptr)
     for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", q.extent(1), q.extent(2), q.extent(3));
-  IndexBox around = cells;
-  for (int d = 0; d < 3; ++d) {
-    around.lo[d] -= 1;
-    around.hi[d] += 1;
-  }
+  const IndexBox around = with_layer_around(cells);
   with_slab<InlineGradient>(true, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
     if constexpr (std::decay_t<decltype(slab)>::second_order)
       cell_outfluxes(around, dt, face_areas(h), U, m, slab, scratch);
@@ -458,12 +464,7 @@ inline void limited_advection_change(const IndexBox& cells, const Kokkos::Array<
   if (cells.size() < inline_from) {
     if (grad[0].data() == nullptr)
       for (int d = 0; d < 3; ++d) grad[d] = Field3("advection_gradient", q.extent(1), q.extent(2), q.extent(3));
-    IndexBox around = cells;
-    for (int d = 0; d < 3; ++d) {
-      around.lo[d] -= 1;
-      around.hi[d] += 1;
-    }
-    limited_gradient(around, h, q, m, mass, mass_grad, grad);
+    limited_gradient(detail::with_layer_around(cells), h, q, m, mass, mass_grad, grad);
     advection_change(cells, h, dt, U, m, q, mass, true, grad, mass_grad, change, scratch);
     return;
   }
