@@ -380,6 +380,20 @@ CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<
   return scratch;
 }
 
+// Adv[Q] to second order on `cells`, written to change(m, ...): the cells' outfluxes
+// (second_order_outfluxes, into `scratch`), then each cell's change from its own and its
+// six neighbours'.
+template <bool InlineGradient = false>
+void second_order_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                         const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
+                         const GradientField& grad, const GradientField& mass_grad, const Field4& change,
+                         CellOutfluxes scratch) {
+  const CellOutfluxes out = second_order_outfluxes<InlineGradient>(cells, h, dt, U, m, q, mass, grad, mass_grad,
+                                                                   scratch);
+  change_from_fluxes("mpmice::outflux_difference", cells, 1.0 / (h[0] * h[1] * h[2]), OutfluxDifference{out}, m,
+                     change);
+}
+
 // Calls f(FirstOrderFlux<...>) for q: compatible when `mass` is given.
 template <class F>
 void with_first_order_flux(const Kokkos::Array<double, 3> h, double dt, const ConstVectorField4& U, int m,
@@ -428,12 +442,10 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
                              const ConstField4& mass, bool second_order,
                              const GradientField& grad, const GradientField& mass_grad,
                              const Field4& change, CellOutfluxes scratch = CellOutfluxes()) {
-  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
   if (second_order) {
-    const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, scratch);
-    detail::change_from_fluxes("mpmice::outflux_difference", cells, inv_volume, detail::OutfluxDifference{out}, m,
-                               change);
+    detail::second_order_change(cells, h, dt, U, m, q, mass, grad, mass_grad, change, scratch);
   } else {
+    const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
     detail::with_first_order_flux(h, dt, U, m, q, mass, [&](const auto& first_order) {
       detail::change_from_fluxes("mpmice::first_order_change", cells, inv_volume, first_order, m, change);
     });
@@ -468,11 +480,7 @@ inline void limited_advection_change(const IndexBox& cells, const Kokkos::Array<
     advection_change(cells, h, dt, U, m, q, mass, true, grad, mass_grad, change, scratch);
     return;
   }
-  const double inv_volume = 1.0 / (h[0] * h[1] * h[2]);
-  const CellOutfluxes out =
-      detail::second_order_outfluxes<true>(cells, h, dt, U, m, q, mass, GradientField(), mass_grad, scratch);
-  detail::change_from_fluxes("mpmice::outflux_difference", cells, inv_volume, detail::OutfluxDifference{out}, m,
-                             change);
+  detail::second_order_change<true>(cells, h, dt, U, m, q, mass, GradientField(), mass_grad, change, scratch);
 }
 
 /// to[d] += from[d] on the faces of `cells` (the fluids' volume fluxes summed over them).
