@@ -266,12 +266,12 @@ struct CompatibleFields {
   Field4 q, mass, change;
   GradientField mass_grad, grad;
   ConstVectorField4 U;
-  CellOutfluxes scratch;
+  FaceFluxes scratch;
 
   explicit CompatibleFields(int n)
       : p(cube_patch(n)), q(cell_field(p, 1, 1.0, 0.1, 1)), mass(cell_field(p, 1, 1e-9, 0.1, 5)),
         change(make_field("dq", p, Location::cell, 1)), U(face_velocities(p)),
-        scratch(make_cell_outfluxes("outflux", p)) {
+        scratch(make_face_fluxes("flux", p)) {
     for (int d = 0; d < 3; ++d) {
       mass_grad[d] = make_field("gm", p, Location::cell);
       grad[d] = make_field("gq", p, Location::cell);

@@ -164,7 +164,6 @@ Cycle::Cycle(Problem& pb) : m_pb(pb), m_runner(*pb.halo, pb.fields) {
     m_adv_mass = make_field("advected_mass", p, Location::cell, pb.material_count());
     m_adv_q = make_field("advected_quantity", p, Location::cell, pb.material_count());
     m_face_flux = make_face_fluxes("advection_face_flux", p);
-    if (pb.input.ice.second_order) m_outflux = make_cell_outfluxes("advection_outflux", p);
     m_ke = make_field("specific_kinetic_energy", p, Location::cell, pb.material_count());
   }
   for (int s = 0; s < pb.solid_count(); ++s) {
@@ -449,8 +448,7 @@ void Cycle::add_pressure_steps() {
         }
         for (int m = 0; m < n; ++m) {
           if (second_order) limited_gradient(p.ghosted_cells(1), h, theta, m, ConstField4(), GradientField(), m_grad);
-          face_fluxes(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), m_face_flux,
-                      m_outflux);
+          face_fluxes(owned, h, dt, U, m, theta, ConstField4(), second_order, m_grad, GradientField(), m_face_flux);
           flux_difference(owned, 1.0 / V, m_face_flux, m, adv);
           // The fluids' and the deforming solids' volume fluxes, for the pressure work's
           // heat (pressure_work_heat.hpp).
@@ -875,12 +873,12 @@ void Cycle::add_advection_steps() {
           }
           if (second_order) limited_gradient(around, h, mass, m, ConstField4(), GradientField(), m_mass_grad);
           advection_change(owned, h, dt, U, m, mass, ConstField4(), second_order, m_mass_grad,
-                           GradientField(), m_adv_mass, m_outflux);
+                           GradientField(), m_adv_mass, m_face_flux);
           advance_density(owned, V, m, mass, m_adv_mass, rho_new);
           // Adv[m q] of a mass-specific quantity q into m_adv_q (compatible fluxes, E43).
           const auto advect_specific = [&](const ConstField4& q) {
             if (second_order)
-              limited_advection_change(owned, h, dt, U, m, q, mass, m_mass_grad, m_adv_q, m_outflux, m_grad);
+              limited_advection_change(owned, h, dt, U, m, q, mass, m_mass_grad, m_adv_q, m_face_flux, m_grad);
             else
               advection_change(owned, h, dt, U, m, q, mass, false, GradientField(), GradientField(), m_adv_q);
           };

@@ -62,8 +62,7 @@ class Cycle {
   // Scratch of the advection operator (not fields of the cycle: no step shares them).
   GradientField m_grad, m_mass_grad;
   Field4 m_adv_mass, m_adv_q, m_ke;
-  FaceFluxes m_face_flux;     // the volume fluxes of one material (face_fluxes)
-  CellOutfluxes m_outflux;    // scratch of second-order face_fluxes and advection_change
+  FaceFluxes m_face_flux;  // the fluxes of one material and quantity (face_fluxes, advection_change)
   Field3 m_burn_cell_mass;  // burn_particles' scratch: the reactant's particle mass per cell
   ScatterScratch m_p2g_scatter, m_force_scatter;  // the copies p2g and internal_force add into
 };

@@ -206,20 +206,30 @@ void with_slab(bool second_order, const ConstField4& q, const ConstField4& mass,
   }
 }
 
-// What leaves cell (i, j, k) through each of its faces to second order (E42, E43): the
-// slab value times the outflux volume d A, written to out[f] for face f (2 dir: low,
-// 2 dir + 1: high); exactly 0 where the face velocity does not point out, whatever
-// the slab value. One pass over the cells computes each cell's outflux distances
-// once; the flux through a face is then the difference of its two cells' outfluxes
-// (OutfluxDifference).
+// What crosses the faces of `cells` to second order (E42, E43), written to flux[d] on
+// the d-faces, positive along +d, by the face's donor: the cell the face velocity
+// points out of sends its slab value times its outflux volume d A (the cell below
+// through its high face, the cell above through its low face, negated); where the
+// velocity does not point out of either, the cell above writes 0. Each face is thus
+// written by one of its two cells only, whichever thread runs the other, and gets
+// what the difference of the two cells' outfluxes would be, bit for bit (x - 0 = x,
+// 0 - y = -y). One pass computes each cell's outflux distances once and writes 3
+// arrays, where six outflux arrays written and read back cost 6 more array passes
+// (docs/performance.md, session 44); the writes are masked vector stores. Faces of
+// cells outside `cells` that those cells share are written too (face arrays: in bounds).
 template <class Slab>
-void cell_outfluxes(const IndexBox& cells, double dt, const Kokkos::Array<double, 3> area, const ConstVectorField4& U,
-                    int m, const Slab& slab, const Kokkos::Array<Field3, 6>& out) {
+void donor_face_fluxes(const IndexBox& cells, double dt, const Kokkos::Array<double, 3> area,
+                       const ConstVectorField4& U, int m, const Slab& slab, const Kokkos::Array<Field3, 3>& flux) {
+  // flux[2] again, for the high z-faces: the store at k + 1 after one at k into the same
+  // view is a dependence of distance 1 that GCC 12 does not let `omp simd` waive (the
+  // loop stayed scalar); through a second view it cannot tell that the array is the
+  // same. No two lanes store to one face: their conditions exclude each other.
+  const Field3 z_high = flux[2];
   for_each_index<Rows::longest>(
-      "mpmice::cell_outfluxes", cells, KOKKOS_LAMBDA(long i, long j, long k) {
+      "mpmice::donor_face_fluxes", cells, KOKKOS_LAMBDA(long i, long j, long k) {
         double d[6], o[6];
         outflux_distances(U, m, i, j, k, dt, d);
-        // The cell's values are loaded once and the six outfluxes stored after all are
+        // The cell's values are loaded once and the fluxes stored after all are
         // computed: a store between them made GCC load them again (it may alias them).
         const auto cell = slab.load(i, j, k);
         unrolled_for<6>([&](int f) {
@@ -228,7 +238,17 @@ void cell_outfluxes(const IndexBox& cells, double dt, const Kokkos::Array<double
           const double out_f = slab.value(cell, f, d) * d[f] * area[f / 2];
           o[f] = d[f] > 0 ? out_f : 0.0;
         });
-        unrolled_for<6>([&](int f) { out[f](i, j, k) = o[f]; });
+        // Whether this cell writes its low and its high face of each direction.
+        const bool low[3] = {!(U[0](m, i, j, k) > 0), !(U[1](m, i, j, k) > 0), !(U[2](m, i, j, k) > 0)};
+        const bool high[3] = {U[0](m, i + 1, j, k) > 0, U[1](m, i, j + 1, k) > 0, U[2](m, i, j, k + 1) > 0};
+        // The faces' addresses are taken before the conditions: inside them, the views'
+        // data pointers were loaded under the mask too, which GCC 12 cannot vectorise.
+        double* const at_low[3] = {&flux[0](i, j, k), &flux[1](i, j, k), &flux[2](i, j, k)};
+        double* const at_high[3] = {&flux[0](i + 1, j, k), &flux[1](i, j + 1, k), &z_high(i, j, k + 1)};
+        unrolled_for<3>([&](int e) {
+          if (low[e]) *at_low[e] = 0.0 - o[2 * e];
+          if (high[e]) *at_high[e] = o[2 * e + 1];
+        });
       });
 }
 
@@ -257,20 +277,7 @@ struct FirstOrderFlux {
   }
 };
 
-// Second order, from the cells' outfluxes (cell_outfluxes): what the cell below sends
-// through its high face minus what the cell sends through its low face. At most one
-// of the two is not 0, so the difference is that one exactly.
-struct OutfluxDifference {
-  Kokkos::Array<Field3, 6> out;
-
-  template <int Dir>
-  KOKKOS_FORCEINLINE_FUNCTION double at(long i, long j, long k) const {
-    constexpr long di = Dir == 0, dj = Dir == 1, dk = Dir == 2;
-    return out[2 * Dir + 1](i - di, j - dj, k - dk) - out[2 * Dir](i, j, k);
-  }
-};
-
-// Fluxes stored on face arrays (face_fluxes).
+// Fluxes stored on face arrays (face_fluxes, donor_face_fluxes).
 struct StoredFlux {
   Kokkos::Array<Field3, 3> flux;
 
@@ -286,8 +293,8 @@ struct StoredFlux {
 // per cell against 88 for face_fluxes then flux_difference, 1.8-1.9x faster at 64^3 and
 // 128^3, and equal to them to round-off only: the compiler may fuse a flux's last
 // product into the sum (an FMA, GCC's default -ffp-contract=fast), so a face's two uses
-// differ at round-off. With OutfluxDifference or StoredFlux the values are bit for bit
-// those of the stored fluxes.
+// differ at round-off. With StoredFlux the values are bit for bit those of the stored
+// fluxes.
 template <class Flux>
 void change_from_fluxes(const std::string& label, const IndexBox& cells, double inv_volume, const Flux& flux, int m,
                         const Field4& change) {
@@ -332,26 +339,14 @@ inline FaceFluxes make_face_fluxes(const std::string& label, const Patch& patch)
           make_field(label + "_z", patch, Location::z_face)};
 }
 
-/// What leaves each cell through each of its six faces over the step, to second order
-/// (E42, E43): outflux[f](i, j, k) for face f (2 d: the low d-face, 2 d + 1: the high
-/// one), the slab value times the outflux volume, 0 where the face velocity points in.
-/// Cell arrays; scratch of the second-order advection.
-using CellOutfluxes = Kokkos::Array<Field3, 6>;
-
-inline CellOutfluxes make_cell_outfluxes(const std::string& label, const Patch& patch) {
-  CellOutfluxes out;
-  for (int f = 0; f < 6; ++f) out[f] = make_field(label + "_" + std::to_string(f), patch, Location::cell);
-  return out;
-}
-
 namespace detail {
 
 inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
   return {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
 }
 
-// `cells` and the layer of cells around them: where the outfluxes (and the limited
-// gradients they take) are needed for the fluxes through the cells' faces.
+// `cells` and the layer of cells around them: the donors of the cells' faces (whose
+// slabs need their limited gradients).
 inline IndexBox with_layer_around(IndexBox cells) {
   for (int d = 0; d < 3; ++d) {
     cells.lo[d] -= 1;
@@ -360,38 +355,36 @@ inline IndexBox with_layer_around(IndexBox cells) {
   return cells;
 }
 
-// The second-order outfluxes of `cells` and of the layer of cells around them (the
-// fluxes through the cells' faces need both sides), into `scratch`, allocated here
-// with the extents of q's cell arrays if empty. The layer's edge and corner
-// cells are computed too (one box, one pass) and never used. With InlineGradient,
-// q's limited gradient is made in the same pass (`grad` is not read).
+// The second-order fluxes through the faces of `cells` (donor_face_fluxes over the
+// cells and the layer around them: a face's donor may be either of its cells), into
+// `flux`, allocated here as face arrays over q's cells if empty. The layer's edge and
+// corner cells are computed too (one box, one pass) and write faces never read. With
+// InlineGradient, q's limited gradient is made in the same pass (`grad` is not read).
 template <bool InlineGradient = false>
-CellOutfluxes second_order_outfluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
-                                     const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
-                                     const GradientField& grad, const GradientField& mass_grad,
-                                     CellOutfluxes scratch) {
-  if (scratch[0].data() == nullptr)
-    for (int f = 0; f < 6; ++f) scratch[f] = Field3("advection_outflux", q.extent(1), q.extent(2), q.extent(3));
-  const IndexBox around = with_layer_around(cells);
+FaceFluxes second_order_face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
+                                    const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
+                                    const GradientField& grad, const GradientField& mass_grad, FaceFluxes flux) {
+  if (flux[0].data() == nullptr)
+    for (int d = 0; d < 3; ++d)
+      flux[d] = Field3("advection_face_flux", q.extent(1) + (d == 0), q.extent(2) + (d == 1), q.extent(3) + (d == 2));
   with_slab<InlineGradient>(true, q, mass, grad, mass_grad, m, h, [&](const auto& slab) {
     if constexpr (std::decay_t<decltype(slab)>::second_order)
-      cell_outfluxes(around, dt, face_areas(h), U, m, slab, scratch);
+      donor_face_fluxes(with_layer_around(cells), dt, face_areas(h), U, m, slab, flux);
   });
-  return scratch;
+  return flux;
 }
 
-// Adv[Q] to second order on `cells`, written to change(m, ...): the cells' outfluxes
-// (second_order_outfluxes, into `scratch`), then each cell's change from its own and its
-// six neighbours'.
+// Adv[Q] to second order on `cells`, written to change(m, ...): the fluxes through the
+// cells' faces (second_order_face_fluxes, into `scratch`), then each cell's change
+// from its six.
 template <bool InlineGradient = false>
 void second_order_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                          const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
                          const GradientField& grad, const GradientField& mass_grad, const Field4& change,
-                         CellOutfluxes scratch) {
-  const CellOutfluxes out = second_order_outfluxes<InlineGradient>(cells, h, dt, U, m, q, mass, grad, mass_grad,
+                         const FaceFluxes& scratch) {
+  const FaceFluxes flux = second_order_face_fluxes<InlineGradient>(cells, h, dt, U, m, q, mass, grad, mass_grad,
                                                                    scratch);
-  change_from_fluxes("mpmice::outflux_difference", cells, 1.0 / (h[0] * h[1] * h[2]), OutfluxDifference{out}, m,
-                     change);
+  change_from_fluxes("mpmice::flux_difference", cells, 1.0 / (h[0] * h[1] * h[2]), StoredFlux{flux}, m, change);
 }
 
 // Calls f(FirstOrderFlux<...>) for q: compatible when `mass` is given.
@@ -411,15 +404,14 @@ void with_first_order_flux(const Kokkos::Array<double, 3> h, double dt, const Co
 /// totals (mass, volume fraction). Compatible (`mass` given): q holds the specific value
 /// and Q = mass q. `grad`, `mass_grad` are limited gradients (ignored for first order);
 /// face velocities U must be valid on the faces of the cells and of their neighbours.
-/// Second order works through the cells' outfluxes (`scratch`: make_cell_outfluxes;
-/// allocated here if empty).
+/// Second order writes each face from its donor cell (donor_face_fluxes), which may be
+/// in the layer of cells around `cells`: those cells' other faces are written too.
 inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                         const ConstVectorField4& U, int m, const ConstField4& q, const ConstField4& mass,
                         bool second_order, const GradientField& grad, const GradientField& mass_grad,
-                        const FaceFluxes& flux, CellOutfluxes scratch = CellOutfluxes()) {
+                        const FaceFluxes& flux) {
   if (second_order) {
-    const CellOutfluxes out = detail::second_order_outfluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, scratch);
-    detail::fill_face_fluxes(cells, detail::OutfluxDifference{out}, flux);
+    detail::second_order_face_fluxes(cells, h, dt, U, m, q, mass, grad, mass_grad, flux);
   } else {
     detail::with_first_order_flux(h, dt, U, m, q, mass,
                                   [&](const auto& first_order) { detail::fill_face_fluxes(cells, first_order, flux); });
@@ -435,13 +427,13 @@ inline void flux_difference(const IndexBox& cells, double inv_volume, const Face
 
 /// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43), the same values as
 /// flux_difference of face_fluxes. First order: one pass (equal to round-off). Second
-/// order: the cells' outfluxes (`scratch`: make_cell_outfluxes; allocated here if
-/// empty), then each cell's change from its own and its six neighbours' (bit for bit).
+/// order: face_fluxes into `scratch` (make_face_fluxes; allocated here if empty), then
+/// flux_difference (bit for bit).
 inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                              const ConstVectorField4& U, int m, const ConstField4& q,
                              const ConstField4& mass, bool second_order,
                              const GradientField& grad, const GradientField& mass_grad,
-                             const Field4& change, CellOutfluxes scratch = CellOutfluxes()) {
+                             const Field4& change, const FaceFluxes& scratch = FaceFluxes()) {
   if (second_order) {
     detail::second_order_change(cells, h, dt, U, m, q, mass, grad, mass_grad, change, scratch);
   } else {
@@ -452,8 +444,8 @@ inline void advection_change(const IndexBox& cells, const Kokkos::Array<double, 
   }
 }
 
-/// Boxes of at least this many cells take limited_advection_change's one pass over the
-/// outfluxes with the gradient limited in it; smaller boxes two passes, the gradient
+/// Boxes of at least this many cells take limited_advection_change's one flux pass
+/// with the gradient limited in it; smaller boxes two passes, the gradient
 /// stored and read back. One pass saves writing and reading 3 arrays, which pays once
 /// they come from memory (1.02-1.21x at 64^3 and 128^3 cells); in cache its longer
 /// loop body runs slower (0.84-1.01x at 16^3 and 32^3; docs/performance.md, session 43).
@@ -463,7 +455,7 @@ constexpr long advection_inline_gradient_cells = 1L << 17;
 /// `change(m, ...)`: the same values as limited_gradient of q on the cells and the
 /// layer around them, then advection_change with that gradient (bit for bit in a build
 /// without fused multiply-adds, MPMICE_REPRODUCIBLE). Boxes of `inline_from` cells or
-/// more take one pass over the outfluxes that limits each cell's gradient itself
+/// more take one flux pass that limits each donor cell's gradient itself
 /// (limited_gradient_at) instead of storing it in `grad` (allocated here if empty and
 /// needed). q must be valid two cells beyond `cells`; compatible when `mass` is given,
 /// with `mass_grad` the mass's limited gradient on the cells and the layer around
@@ -471,7 +463,7 @@ constexpr long advection_inline_gradient_cells = 1L << 17;
 inline void limited_advection_change(const IndexBox& cells, const Kokkos::Array<double, 3> h, double dt,
                                      const ConstVectorField4& U, int m, const ConstField4& q,
                                      const ConstField4& mass, const GradientField& mass_grad, const Field4& change,
-                                     CellOutfluxes scratch = CellOutfluxes(), GradientField grad = GradientField(),
+                                     const FaceFluxes& scratch = FaceFluxes(), GradientField grad = GradientField(),
                                      long inline_from = advection_inline_gradient_cells) {
   if (cells.size() < inline_from) {
     if (grad[0].data() == nullptr)
