@@ -214,9 +214,10 @@ void with_slab(bool second_order, const ConstField4& q, const ConstField4& mass,
 // written by one of its two cells only, whichever thread runs the other, and gets
 // what the difference of the two cells' outfluxes would be, bit for bit (x - 0 = x,
 // 0 - y = -y). One pass computes each cell's outflux distances once and writes 3
-// arrays, where six outflux arrays written and read back cost 6 more array passes
-// (docs/performance.md, session 44); the writes are masked vector stores. Faces of
-// cells outside `cells` that those cells share are written too (face arrays: in bounds).
+// arrays: 9 array passes per cell fewer than the six cell outfluxes written, and read
+// back, until session 44 (docs/performance.md); the writes are masked vector stores.
+// Any face of a cell in `cells` may be written, so `flux` must be face arrays over a
+// box that holds them all (the patch's, for its cells and one layer around them).
 template <class Slab>
 void donor_face_fluxes(const IndexBox& cells, double dt, const Kokkos::Array<double, 3> area,
                        const ConstVectorField4& U, int m, const Slab& slab, const Kokkos::Array<Field3, 3>& flux) {
