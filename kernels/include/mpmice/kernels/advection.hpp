@@ -340,6 +340,13 @@ inline FaceFluxes make_face_fluxes(const std::string& label, const Patch& patch)
           make_field(label + "_z", patch, Location::z_face)};
 }
 
+/// Adv[Q] = (what comes in - what goes out) / V from the fluxes through a cell's six
+/// faces, written to `change(m, ...)` on `cells`.
+inline void flux_difference(const IndexBox& cells, double inv_volume, const FaceFluxes& flux, int m,
+                            const Field4& change) {
+  detail::change_from_fluxes("mpmice::flux_difference", cells, inv_volume, detail::StoredFlux{flux}, m, change);
+}
+
 namespace detail {
 
 inline Kokkos::Array<double, 3> face_areas(const Kokkos::Array<double, 3> h) {
@@ -385,7 +392,7 @@ void second_order_change(const IndexBox& cells, const Kokkos::Array<double, 3> h
                          const FaceFluxes& scratch) {
   const FaceFluxes flux = second_order_face_fluxes<InlineGradient>(cells, h, dt, U, m, q, mass, grad, mass_grad,
                                                                    scratch);
-  change_from_fluxes("mpmice::flux_difference", cells, 1.0 / (h[0] * h[1] * h[2]), StoredFlux{flux}, m, change);
+  flux_difference(cells, 1.0 / (h[0] * h[1] * h[2]), flux, m, change);
 }
 
 // Calls f(FirstOrderFlux<...>) for q: compatible when `mass` is given.
@@ -417,13 +424,6 @@ inline void face_fluxes(const IndexBox& cells, const Kokkos::Array<double, 3> h,
     detail::with_first_order_flux(h, dt, U, m, q, mass,
                                   [&](const auto& first_order) { detail::fill_face_fluxes(cells, first_order, flux); });
   }
-}
-
-/// Adv[Q] = (what comes in - what goes out) / V from the fluxes through a cell's six
-/// faces, written to `change(m, ...)` on `cells`.
-inline void flux_difference(const IndexBox& cells, double inv_volume, const FaceFluxes& flux, int m,
-                            const Field4& change) {
-  detail::change_from_fluxes("mpmice::flux_difference", cells, inv_volume, detail::StoredFlux{flux}, m, change);
 }
 
 /// Adv[Q] on `cells`, written to `change(m, ...)` (E40, E42, E43), the same values as
