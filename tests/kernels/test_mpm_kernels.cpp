@@ -529,6 +529,56 @@ double largest_difference(const ConstField4& a, const ConstField4& b) {
   return largest;
 }
 
+// add_scatter_into sums the scatter's copies (one per thread: 2 in the unit tests, 1
+// and 4 in this file's other runs, tests/CMakeLists.txt) in thread order, scales the
+// sums and leaves every copy zeroed for the next loop. The copies are set by hand to
+// whole numbers below 2^20, whose sums and products with a power of two are exact, so
+// the node values are compared exactly; a second call, with nothing added, gives the
+// start values alone.
+TEST(NodeScatter, AddsEveryCopyAndLeavesThemZeroed) {
+  const Patch patch = whole_patch({5, 4, 3}, {0.1, 0.1, 0.1});
+  const NodeSums sums = node_sums(patch);
+  const Kokkos::Array<Field4, 3> dest{sums.mass, sums.mom[0], sums.heat};
+  const Kokkos::Array<double, 3> start{1e-200, 0.0, 2.0}, unit{0.25, 1.0, 0x1p-40};
+  ScatterScratch scratch;
+  const NodeScatter& scatter = scratch.zeroed("test", sums.mass, 3);
+  const auto copies = Kokkos::create_mirror_view(scatter.copies());
+  const long count = long(copies.extent(0)), rows = long(copies.extent(1));
+  ASSERT_EQ(rows, node_rows(sums.mass));
+  const auto entry = [](long t, long row, int f) { return double((t + 1) * 1000 + 3 * row + f); };
+  for (long t = 0; t < count; ++t)
+    for (long row = 0; row < rows; ++row)
+      for (int f = 0; f < 3; ++f) copies(t, row, f) = entry(t, row, f);
+  Kokkos::deep_copy(scatter.copies(), copies);
+
+  add_scatter_into<3>(scatter, dest, 0, start, unit);
+  const long nj = long(sums.mass.extent(2)), nk = long(sums.mass.extent(3));
+  long wrong = 0;
+  for (int f = 0; f < 3; ++f) {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dest[f]);
+    for (long i = 0; i < long(h.extent(1)); ++i)
+      for (long j = 0; j < nj; ++j)
+        for (long k = 0; k < nk; ++k) {
+          double sum = 0;
+          for (long t = 0; t < count; ++t) sum += entry(t, (i * nj + j) * nk + k, f);
+          wrong += h(0, i, j, k) != start[f] + unit[f] * sum;
+        }
+  }
+  EXPECT_EQ(wrong, 0) << "of " << 3 * rows << " node values, " << count << " copies";
+  Kokkos::deep_copy(copies, scatter.copies());
+  long left = 0;
+  for (std::size_t e = 0; e < copies.span(); ++e) left += copies.data()[e] != 0.0;
+  EXPECT_EQ(left, 0);
+
+  add_scatter_into<3>(scatter, dest, 0, start, unit);
+  for (int f = 0; f < 3; ++f) {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dest[f]);
+    long not_start = 0;
+    for (std::size_t e = 0; e < h.span(); ++e) not_start += h.data()[e] != start[f];
+    EXPECT_EQ(not_start, 0) << "field " << f;
+  }
+}
+
 // p2g adds consecutive particles of one window (the nodes their shape reaches: the
 // linear shape's cell, GIMP's nearest node) together before adding into the nodes
 // (p2g_window_runs). With quanta every sum is exact, so node by node it must give bit for

@@ -5,6 +5,7 @@
 ///        thread on the host (Kokkos ScatterView), added into the node fields after the
 ///        loop. The copies can be kept between calls (`ScatterScratch`), so that a step
 ///        does not allocate them, and fault their pages in, again.
+#include <stdexcept>
 #include <string>
 
 #include <Kokkos_ScatterView.hpp>
@@ -105,16 +106,65 @@ KOKKOS_FORCEINLINE_FUNCTION double take_copies(const Copies& copies, long row, i
 /// one), and multiply here, once per node instead of once per contribution. A sum of
 /// whole counts is exact, so the product is the sum of the rounded contributions bit for
 /// bit. The copies are zeroed on the way, ready for the next loop.
+///
+/// On the host a row of nodes (i, j) at a time: a vector loop along k over the nodes'
+/// fields (their rows of F values read as strided vectors), then each copy's rows
+/// zeroed as one contiguous stretch. Until session 45 a node at a time, field by field,
+/// with the copies' loop inside: a scalar loop that recomputed each field's address,
+/// 16% of p2g's time on 1 thread at 1e6 particles (p2g 1.05-1.10x faster since,
+/// docs/performance.md). With more than two copies (threads) the later ones add into
+/// `dest` row by row, in thread order, before the scaling: the same sums.
 template <int F>
 void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
                       const Kokkos::Array<double, F>& start, const Kokkos::Array<double, F>& unit) {
   const auto copies = scatter.copies();
-  const IndexBox nodes{{0, 0, 0}, {int(dest[0].extent(1)), int(dest[0].extent(2)), int(dest[0].extent(3))}};
-  const long nj = nodes.hi[1], nk = nodes.hi[2];
+  const long ni = dest[0].extent(1), nj = dest[0].extent(2), nk = dest[0].extent(3);
+#if defined(MPMICE_DEVICE_BACKEND)
+  const IndexBox nodes{{0, 0, 0}, {int(ni), int(nj), int(nk)}};
   for_each_index("mpmice::add_scatter_into", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
     const long row = (i * nj + j) * nk + k;
     for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + unit[f] * detail::take_copies(copies, row, f);
   });
+#else
+  // Each copy's rows, one after another (a LayoutRight block without padding).
+  const long count = copies.extent(0), rows = copies.extent(1);
+  if (copies.stride(1) != F || copies.stride(2) != 1)
+    throw std::logic_error("add_scatter_into: the scatter's copies are not contiguous rows");
+  const Kokkos::View<double**, Kokkos::LayoutRight, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> entries(
+      copies.data(), count, rows * F);
+  const IndexBox lines{{0, 0, 0}, {int(ni), int(nj), 1}};
+  for_each_index("mpmice::add_scatter_into", lines, KOKKOS_LAMBDA(long i, long j, long) {
+    const long row0 = (i * nj + j) * nk;
+    if (count == 1) {
+      MPMICE_PRAGMA_SIMD
+      for (long k = 0; k < nk; ++k)
+        unrolled_for<F>([&](int f) { dest[f](m, i, j, k) = start[f] + unit[f] * copies(0, row0 + k, f); });
+    } else if (count == 2) {
+      MPMICE_PRAGMA_SIMD
+      for (long k = 0; k < nk; ++k)
+        unrolled_for<F>([&](int f) {
+          dest[f](m, i, j, k) = start[f] + unit[f] * (copies(0, row0 + k, f) + copies(1, row0 + k, f));
+        });
+    } else {
+      MPMICE_PRAGMA_SIMD
+      for (long k = 0; k < nk; ++k)
+        unrolled_for<F>([&](int f) { dest[f](m, i, j, k) = copies(0, row0 + k, f) + copies(1, row0 + k, f); });
+      for (long t = 2; t < count - 1; ++t) {
+        MPMICE_PRAGMA_SIMD
+        for (long k = 0; k < nk; ++k) unrolled_for<F>([&](int f) { dest[f](m, i, j, k) += copies(t, row0 + k, f); });
+      }
+      MPMICE_PRAGMA_SIMD
+      for (long k = 0; k < nk; ++k)
+        unrolled_for<F>([&](int f) {
+          dest[f](m, i, j, k) = start[f] + unit[f] * (dest[f](m, i, j, k) + copies(count - 1, row0 + k, f));
+        });
+    }
+    for (long t = 0; t < count; ++t) {
+      MPMICE_PRAGMA_SIMD
+      for (long e = row0 * F; e < (row0 + nk) * F; ++e) entries(t, e) = 0;
+    }
+  });
+#endif
 }
 
 }  // namespace mpmice
