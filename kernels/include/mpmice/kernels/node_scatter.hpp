@@ -111,8 +111,8 @@ KOKKOS_FORCEINLINE_FUNCTION double take_copies(const Copies& copies, long row, i
 /// fields (their rows of F values read as strided vectors), then each copy's rows
 /// zeroed as one contiguous stretch. Until session 45 a node at a time, field by field,
 /// with the copies' loop inside: a scalar loop that recomputed each field's address,
-/// 16% of p2g's time on 1 thread at 1e6 particles (p2g 1.05-1.10x faster since,
-/// docs/performance.md). With more than two copies (threads) the later ones add into
+/// 16% of p2g's time on 1 thread at 1e6 particles (p2g 1.07-1.14x faster since at
+/// 1e6-4e6, docs/performance.md, session 45). With more than two copies (threads) the later ones add into
 /// `dest` row by row, in thread order, before the scaling: the same sums.
 template <int F>
 void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
@@ -126,10 +126,11 @@ void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>
     for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + unit[f] * detail::take_copies(copies, row, f);
   });
 #else
-  // Each copy's rows, one after another (a LayoutRight block without padding).
+  // Each copy's rows, one after another (a LayoutRight block without padding), a row
+  // for every node of `dest`.
   const long count = copies.extent(0), rows = copies.extent(1);
-  if (copies.stride(1) != F || copies.stride(2) != 1)
-    throw std::logic_error("add_scatter_into: the scatter's copies are not contiguous rows");
+  if (copies.stride(1) != F || copies.stride(2) != 1 || rows < ni * nj * nk)
+    throw std::logic_error("add_scatter_into: the scatter's copies are not a row of F values per node of dest");
   const Kokkos::View<double**, Kokkos::LayoutRight, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> entries(
       copies.data(), count, rows * F);
   const IndexBox lines{{0, 0, 0}, {int(ni), int(nj), 1}};
