@@ -80,26 +80,6 @@ class ScatterScratch {
   int m_fields = -1;
 };
 
-namespace detail {
-/// The sum of the copies of entry (row, f) in thread order, each zeroed once read.
-template <class Copies>
-KOKKOS_FORCEINLINE_FUNCTION double take_copies(const Copies& copies, long row, int f) {
-  if constexpr (Copies::rank == 3) {  // one per thread
-    double sum = copies(0, row, f);
-    copies(0, row, f) = 0;
-    for (long t = 1; t < long(copies.extent(0)); ++t) {
-      sum += copies(t, row, f);
-      copies(t, row, f) = 0;
-    }
-    return sum;
-  } else {  // one, added into atomically
-    const double sum = copies(row, f);
-    copies(row, f) = 0;
-    return sum;
-  }
-}
-}  // namespace detail
-
 /// dest[f](m, node) = start[f] + unit[f] times what the particle loop added into the
 /// node's row through `scatter` (the threads' copies in thread order): p2g and
 /// internal_force add each field counted in its quantum (quanta.hpp; unit 1 without
@@ -109,11 +89,12 @@ KOKKOS_FORCEINLINE_FUNCTION double take_copies(const Copies& copies, long row, i
 ///
 /// On the host a row of nodes (i, j) at a time: a vector loop along k over the nodes'
 /// fields (their rows of F values read as strided vectors), then each copy's rows
-/// zeroed as one contiguous stretch. Until session 45 a node at a time, field by field,
-/// with the copies' loop inside: a scalar loop that recomputed each field's address,
-/// 16% of p2g's time on 1 thread at 1e6 particles (p2g 1.07-1.14x faster since at
-/// 1e6-4e6, docs/performance.md, session 45). With more than two copies (threads) the later ones add into
-/// `dest` row by row, in thread order, before the scaling: the same sums.
+/// zeroed as one contiguous stretch. Until session 45 a node at a time, field by
+/// field, with the copies' loop inside: a scalar loop that recomputed each field's
+/// address, 16% of p2g's time on 1 thread at 1e6 particles (since then p2g 1.07-1.14x
+/// faster at 1e6-4e6, docs/performance.md, session 45). With more than two copies
+/// (threads) the later ones add into `dest` row by row, in thread order, before the
+/// scaling: the same sums. On a GPU the one block, added into atomically, node by node.
 template <int F>
 void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>& dest, int m,
                       const Kokkos::Array<double, F>& start, const Kokkos::Array<double, F>& unit) {
@@ -123,7 +104,10 @@ void add_scatter_into(const NodeScatter& scatter, const Kokkos::Array<Field4, F>
   const IndexBox nodes{{0, 0, 0}, {int(ni), int(nj), int(nk)}};
   for_each_index("mpmice::add_scatter_into", nodes, KOKKOS_LAMBDA(long i, long j, long k) {
     const long row = (i * nj + j) * nk + k;
-    for (int f = 0; f < F; ++f) dest[f](m, i, j, k) = start[f] + unit[f] * detail::take_copies(copies, row, f);
+    for (int f = 0; f < F; ++f) {
+      dest[f](m, i, j, k) = start[f] + unit[f] * copies(row, f);
+      copies(row, f) = 0;
+    }
   });
 #else
   // Each copy's rows, one after another (a LayoutRight block without padding), a row
