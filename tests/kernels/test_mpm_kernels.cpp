@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <vector>
 
 #include <mpmice/kernels/bad_particles.hpp>
@@ -324,6 +325,44 @@ TEST(Deformation, LargeVelocityGradientIsSubstepped) {
       EXPECT_NEAR(after(p, column(ParticleField::volume)), 1e-4 * F.det(), 1e-12 * 1e-4 * std::abs(F.det()));
     }
   }
+}
+
+// g2p takes the heat rate and the transfers' energy together (MPMICE) or neither (MPM
+// alone); one without the other is refused before any particle changes.
+TEST(Transfer, G2pTakesTheHeatRateAndTheTransfersTogether) {
+  const Patch patch = whole_patch({4, 4, 4}, {0.1, 0.1, 0.1});
+  const NodeGrid grid = node_grid(patch);
+  ParticleSet ps("solid", 1);
+  ps.resize(1);
+  auto h = Kokkos::create_mirror_view(ps.data());
+  for (int c = 0; c < particle_field_count; ++c) h(0, c) = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    h(0, column(ParticleField::x) + d) = 0.2;
+    h(0, column(ParticleField::size_x) + d) = 0.5;
+    h(0, column(ParticleField::F00) + 4 * d) = 1.0;
+  }
+  h(0, column(ParticleField::mass)) = 1.0;
+  h(0, column(ParticleField::volume)) = 1e-3;
+  Kokkos::deep_copy(ps.data(), h);
+  const auto before = Kokkos::create_mirror(ps.data());  // a copy, unlike a host mirror view
+  Kokkos::deep_copy(before, ps.data());
+  auto node = [&](const char* name) { return make_field(name, patch, Location::node, 1); };
+  const Field4 zero = node("zero"), one = node("one"), rate = node("rate");
+  Kokkos::deep_copy(one, 1.0);  // an acceleration that a run would add into the velocity
+  const ConstVectorField4 still{zero, zero, zero}, pushed{one, one, one};
+  const TransferHeat transfer{node("energy"), 400.0};
+  EXPECT_THROW(g2p<LinearShape>(grid, 1, ps.data(), 0, 1e-3, 0.0, false, {0, 0, 0}, still, pushed, rate),
+               std::invalid_argument);
+  EXPECT_THROW(g2p<GimpShape>(grid, 1, ps.data(), 0, 1e-3, 0.0, false, {0, 0, 0}, still, pushed, ConstField4(),
+                              transfer),
+               std::invalid_argument);
+  const auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
+  for (int c = 0; c < particle_field_count; ++c) EXPECT_EQ(after(0, c), before(0, c)) << "column " << c;
+  // Both given, it runs: v += dt a.
+  EXPECT_NO_THROW(
+      g2p<LinearShape>(grid, 1, ps.data(), 0, 1e-3, 0.0, false, {0, 0, 0}, still, pushed, rate, transfer));
+  EXPECT_DOUBLE_EQ(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data())(0, column(ParticleField::vx)),
+                   1e-3);
 }
 
 // p2g, g2p and a plain host loop must compute the same weights to the last bit (the
