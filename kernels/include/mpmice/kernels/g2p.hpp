@@ -383,9 +383,9 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
     });
     return;
   }
-  // Both or neither: each of the other two combinations would be two more compilations
-  // of the body (with GIMP about 3 and 5 minutes of GCC 12 each on a 2.45 GHz Zen 3 core,
-  // in every file that calls g2p; docs/design.md, "Build time").
+  // Both or neither, as MPM alone and MPMICE call it: with GIMP each combination takes
+  // minutes to compile (3.0 without heat and 5.4 with both, GCC 12 on a 2.45 GHz Zen 3
+  // core), in every file that calls g2p (docs/design.md, "Build time").
   const bool mpmice = transfer.node_energy.data() != nullptr;
   if (mpmice != (temp_rate.data() != nullptr))
     throw std::invalid_argument("g2p: temp_rate and transfer.node_energy are given together (MPMICE) or not at all");
