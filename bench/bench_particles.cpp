@@ -47,8 +47,9 @@ const ParticleSet& sorted_particles_in(const Patch& p, long count) {
   });
 }
 
-// The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp): 2^-40 of the
-// largest contribution of each kind, the mass's from the heaviest particle.
+// The quanta the driver's p2g and internal_force use (miniapp/cycle.cpp and
+// cycle_particles.cpp): 2^-40 of the largest contribution of each kind, the mass's from
+// the heaviest particle.
 SumQuanta driver_quanta(const NodeGrid& grid, long count, const ParticleData& data) {
   SumQuanta bound = particle_scatter_bounds(count, data);
   Kokkos::parallel_reduce(
