@@ -1,4 +1,5 @@
-// The Lagrangian steps: Lagrangian values, the exchange, the specific volume, the solids' rates.
+// The Lagrangian steps: Lagrangian values, the exchange, the Lagrangian specific volume,
+// and the solids' rates carried back to their nodes.
 #include "cycle.hpp"
 
 #include <string>
