@@ -27,7 +27,6 @@ void Cycle::add_lagrangian_steps() {
   const BoundaryInput bc = pb.input.boundary;
   const double V = p.grid.cell_volume();
   const IndexBox owned = p.owned_cells(), with_extra = p.cells_with_extra();
-  const IndexBox nodes = p.with_extra(Location::node, p.ghosts);
   MPI_Comm comm = pb.decomposition->comm();
   const bool solids = pb.solid_count() > 0;
   const bool clamp = pb.input.ice.clamp_specific_volume;
@@ -209,9 +208,6 @@ void Cycle::add_lagrangian_steps() {
                               write_vec(ctx, "vel_star_NC"), write_vec(ctx, "acc_NC"), ctx.write<Field4>("temp_rate_NC"),
                               ctx.write<Field4>("transfer_energy_NC"));
       }});
-  (void)comm;
-  (void)with_extra;
-  (void)n;
 }
 
 }  // namespace mpmice
