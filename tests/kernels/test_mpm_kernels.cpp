@@ -528,9 +528,9 @@ void expect_node_plane_gradients() {
     std::vector<double> x0(3 * n);
     for (long p = 0; p < n; ++p)
       for (int d = 0; d < 3; ++d) x0[3 * p + d] = before(p, column(ParticleField::x) + d);
-    detail::g2p_deforming<Shape, false, false>(grid, n, ps.data(), 0, 1e-3, 1.0, ConstVectorField4{vs[0], vs[1], vs[2]},
-                                               ConstVectorField4{acc[0], acc[1], acc[2]}, ConstField4(),
-                                               TransferHeat(), in_groups);
+    detail::g2p_deforming<Shape, false>(grid, n, ps.data(), 0, 1e-3, 1.0, ConstVectorField4{vs[0], vs[1], vs[2]},
+                                        ConstVectorField4{acc[0], acc[1], acc[2]}, ConstField4(), TransferHeat(),
+                                        in_groups);
     auto after = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ps.data());
     for (long p = 0; p < n; ++p) {
       const double* x = &x0[3 * p];
@@ -703,7 +703,7 @@ TEST(Transfer, GimpWindowRunsWithAnUnroundedFieldAddAsOneParticleAtATime) {
 // `first` is g2p's own (G2pParticle::first).
 template <class Shape>
 struct WindowReads {
-  detail::G2pParticle<Shape, true, true> g2p_body;
+  detail::G2pParticle<Shape, true> g2p_body;
   int windows;
   long first(long p) const { return g2p_body.first(p); }
   double operator()(long, const ReadOwnNodes&) const { return 0.0; }
@@ -808,15 +808,15 @@ void expect_groups_read_as_one_particle_at_a_time() {
     Kokkos::deep_copy(each.data(), before);
     double substepped;
     if (transfers) {
-      detail::g2p_deforming<Shape, true, true>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, temp_rate, transfer,
-                                               /*in_groups=*/true);
-      substepped = detail::g2p_deforming<Shape, true, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate,
-                                                            transfer, /*in_groups=*/false);
+      detail::g2p_deforming<Shape, true>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, temp_rate, transfer,
+                                         /*in_groups=*/true);
+      substepped = detail::g2p_deforming<Shape, true>(grid, n, each.data(), 0, dt, 0.25, vel, acc, temp_rate,
+                                                      transfer, /*in_groups=*/false);
     } else {
-      detail::g2p_deforming<Shape, false, false>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, Field4(),
-                                                 TransferHeat(), /*in_groups=*/true);
-      substepped = detail::g2p_deforming<Shape, false, false>(grid, n, each.data(), 0, dt, 0.25, vel, acc, Field4(),
-                                                              TransferHeat(), /*in_groups=*/false);
+      detail::g2p_deforming<Shape, false>(grid, n, grouped.data(), 0, dt, 0.25, vel, acc, Field4(), TransferHeat(),
+                                          /*in_groups=*/true);
+      substepped = detail::g2p_deforming<Shape, false>(grid, n, each.data(), 0, dt, 0.25, vel, acc, Field4(),
+                                                       TransferHeat(), /*in_groups=*/false);
     }
     ASSERT_EQ(substepped, 0.0);
     auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), grouped.data());
@@ -874,7 +874,7 @@ void expect_groups_read_as_one_particle_at_a_time() {
   // ... and reduce_over_particle_groups chose those: it gives ReadWindows to the
   // particles of exactly the groups in one, two or three windows, all inside.
   const ParticleData input = before;
-  const detail::G2pParticle<Shape, true, true> g2p_body(grid, input, 0, dt, 0.25, vel, acc, temp_rate, transfer);
+  const detail::G2pParticle<Shape, true> g2p_body(grid, input, 0, dt, 0.25, vel, acc, temp_rate, transfer);
   const auto reads = [&](int windows) {
     return reduce_over_particle_groups<Reduction::sum>("reads", n, WindowReads<Shape>{g2p_body, windows});
   };

@@ -50,10 +50,11 @@ struct TransferHeat {
 namespace detail {
 /// (E35, E36) for particle p of a material that deforms: with GIMP its node values read
 /// through `read` (node_reads.hpp, `operator()`), with the linear shape from the
-/// interpolants over its cell (trilinear.hpp, `in_cell`); `Heat`: temp_rate given;
-/// `Transfer`: the heat of `TransferHeat` too. Returns 1 if the particle's deformation
-/// needs more than one sub-step (its F and V are then left for `g2p_substeps`), else 0.
-template <class Shape, bool Heat, bool Transfer>
+/// interpolants over its cell (trilinear.hpp, `in_cell`); `Heat` (MPMICE): the heat
+/// rate temp_rate and the heat of `TransferHeat` given, else neither (MPM alone: g2p
+/// takes both or neither). Returns 1 if the particle's deformation needs more than one
+/// sub-step (its F and V are then left for `g2p_substeps`), else 0.
+template <class Shape, bool Heat>
 struct G2pParticle {
   NodeGrid grid;
   ParticleData data;
@@ -77,7 +78,7 @@ struct G2pParticle {
         q_node(node_array(transfer.node_energy)),
         dt(dt_),
         pic_fraction(pic_fraction_),
-        inverse_cv(Transfer ? 1.0 / transfer.cv : 0.0) {}
+        inverse_cv(Heat ? 1.0 / transfer.cv : 0.0) {}
 
   /// The place of particle p's first node as the body below finds it, or -1 if its
   /// window leaves the node arrays (window_place, reduce_over_particle_groups).
@@ -108,14 +109,16 @@ struct G2pParticle {
           double g[3];
           wt.gradient(a, b, c, g);
           for (int e = 0; e < 3; ++e) g[e] = S != 0.0 ? g[e] : 0.0;
-          if (Heat) s.t += S * node(t_node);
-          if (Transfer) s.q += S * node(q_node);
+          if (Heat) {
+            s.t += S * node(t_node);
+            s.q += S * node(q_node);
+          }
           for (int d = 0; d < 3; ++d) {
             const double v = node(v_node[d]);
             s.v[d] += S * v;
             const double an = node(a_node[d]);
             s.a[d] += S * an;
-            if (Transfer) s.a2 += S * an * an;
+            if (Heat) s.a2 += S * an * an;
             for (int e = 0; e < 3; ++e) s.L(d, e) += v * g[e];
           }
         });
@@ -129,23 +132,22 @@ struct G2pParticle {
   /// products instead of four, and no 3D weight is formed. A node of zero weight (GIMP)
   /// has a zero w and dw along some direction, so its value (finite; ReadOwnNodes reads
   /// the middle node's there) adds nothing. With GIMP's 27 nodes, 1.1-1.2x on 1 thread
-  /// (docs/performance.md, session 26). Not with the transfers' terms (MPMICE): with
-  /// their sums too, the coarse container's g2p ran 0.92x, so this takes no q_i and
-  /// |a_i|^2 sums.
+  /// (docs/performance.md, session 26). Not with the heat (MPMICE): with the sums of
+  /// the transfers' terms too, the coarse container's g2p ran 0.92x, so this takes no
+  /// heat sums at all.
   template <class Read>
   KOKKOS_FORCEINLINE_FUNCTION void sum_by_direction(const ParticleWeights<Shape>& wt, long first, long middle,
                                                     const Read& read, GatheredSums& s) const {
-    static_assert(!Transfer, "the transfers' terms are summed node by node");
+    static_assert(!Heat, "the heat's sums are taken node by node");
     constexpr int n = Shape::nodes;
     unrolled_for<n>([&](int a) {
       // Over j and k, for this i: w_j w_k, dw_j w_k and w_j dw_k of the velocity.
-      double v_ww[3] = {0, 0, 0}, v_dw[3] = {0, 0, 0}, v_wd[3] = {0, 0, 0}, a_ww[3] = {0, 0, 0}, t_ww = 0;
+      double v_ww[3] = {0, 0, 0}, v_dw[3] = {0, 0, 0}, v_wd[3] = {0, 0, 0}, a_ww[3] = {0, 0, 0};
       unrolled_for<n>([&](int b) {
-        double v_w[3] = {0, 0, 0}, v_d[3] = {0, 0, 0}, a_w[3] = {0, 0, 0}, t_w = 0;
+        double v_w[3] = {0, 0, 0}, v_d[3] = {0, 0, 0}, a_w[3] = {0, 0, 0};
         unrolled_for<n>([&](int c) {
           const auto node = read.node(first, middle, nodes.step(a, b, c), wt.weight(a, b, c));
           const double w = wt.w[2][c], dw = wt.dw[2][c];
-          if (Heat) t_w += w * node(t_node);
           for (int d = 0; d < 3; ++d) {
             const double v = node(v_node[d]);
             v_w[d] += w * v;
@@ -154,7 +156,6 @@ struct G2pParticle {
           }
         });
         const double w = wt.w[1][b], dw = wt.dw[1][b];
-        t_ww += w * t_w;
         for (int d = 0; d < 3; ++d) {
           v_ww[d] += w * v_w[d];
           v_dw[d] += dw * v_w[d];
@@ -163,7 +164,6 @@ struct G2pParticle {
         }
       });
       const double w = wt.w[0][a], dw = wt.dw[0][a];
-      s.t += w * t_ww;
       for (int d = 0; d < 3; ++d) {
         s.v[d] += w * v_ww[d];
         s.a[d] += w * a_ww[d];
@@ -176,8 +176,8 @@ struct G2pParticle {
 
   /// The linear shape's node fields over W cells, as the coefficients of their
   /// interpolants (trilinear.hpp): field f's coefficient j of cell w at c[f][j][w]. The
-  /// fields: v* (0-2), a (3-5), the heat rate (6, Heat), the transfers' energy and
-  /// |a_i|^2 (7, 8, Transfer).
+  /// fields: v* (0-2), a (3-5), and with `Heat` the heat rate (6), the transfers'
+  /// energy and |a_i|^2 (7, 8).
   template <int W>
   struct CellFields {
     double c[9][8][W];
@@ -209,8 +209,6 @@ struct G2pParticle {
       if (Heat) {
         load(t_node, node);
         trilinear::coefficients<W>(node, &f.c[6][0][w]);
-      }
-      if (Transfer) {
         load(q_node, node);
         trilinear::coefficients<W>(node, &f.c[7][0][w]);
         for (int i = 0; i < 8; ++i) node[i] = acc[0][i] * acc[0][i] + acc[1][i] * acc[1][i] + acc[2][i] * acc[2][i];
@@ -237,8 +235,8 @@ struct G2pParticle {
       for (int e = 0; e < 3; ++e) s.L(d, e) = slope[e] * grid.inv_h[e];
       s.a[d] = at(&f.c[3 + d][0][w]);
     }
-    if (Heat) s.t = at(&f.c[6][0][w]);
-    if (Transfer) {
+    if (Heat) {
+      s.t = at(&f.c[6][0][w]);
       s.q = at(&f.c[7][0][w]);
       s.a2 = at(&f.c[8][0][w]);
     }
@@ -260,7 +258,7 @@ struct G2pParticle {
     const ParticleWeights<Shape> wt(x, grid.origin, grid.inv_h, grid.first_node, half);
     const long first = nodes.at(wt.first), middle = nodes.middle(first);
     GatheredSums s;
-    if constexpr (!Transfer) {  // where it is faster (sum_by_direction)
+    if constexpr (!Heat) {  // where it is faster (sum_by_direction)
       sum_by_direction(wt, first, middle, read, s);
     } else {
       sum_node_by_node(wt, first, middle, read, s);
@@ -276,7 +274,7 @@ struct G2pParticle {
       data(p, column(ParticleField::x) + d) = x[d] + dt * s.v[d];
     }
     double& T = data(p, column(ParticleField::temperature));
-    if (Transfer) {
+    if (Heat) {
       // The transfers' heat (cell_rates_to_nodes: q_i; |D_i|^2 from the accelerations
       // here) and the work of (E24)'s isotropic part pp - q on the particle's volume,
       // V (pp - q) tr(L) dt, which is neither strain energy nor received by a fluid (the
@@ -289,9 +287,7 @@ struct G2pParticle {
       const double gauge_work = data(p, column(ParticleField::volume)) * iso * s.L.trace() * dt;
       double dT = dt * s.t + (owed + gauge_work / data(p, column(ParticleField::mass))) * inverse_cv;
       T += dT < -0.5 * T ? -0.5 * T : dT;
-    } else {
-      T += dt * s.t;
-    }
+    }  // MPM alone: T_p unchanged
     store_tensor(data, p, ParticleField::L00, s.L);
     // One sub-step, F_new = (I + dt L) F, here; more are left to g2p_substeps.
     const bool one_step = one_deformation_step(s.L, dt);
@@ -320,12 +316,12 @@ constexpr bool g2p_reads_in_groups = !wide_vectors_are_wider;
 /// reduce_over_cell_runs; GIMP's groups, reduce_over_particle_groups) or particle by
 /// particle (the tests compare the two: the same values, bit for bit). Returns 1 if a
 /// particle's deformation needs more than one sub-step, else 0.
-template <class Shape, bool Heat, bool Transfer>
+template <class Shape, bool Heat>
 double g2p_deforming(const NodeGrid& grid, long count, const ParticleData& data, int m, double dt,
                      double pic_fraction, const ConstVectorField4& vel_star, const ConstVectorField4& acc,
                      const ConstField4& temp_rate, const TransferHeat& transfer,
                      bool in_groups = Shape::nodes == 2 || g2p_reads_in_groups) {
-  const G2pParticle<Shape, Heat, Transfer> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
+  const G2pParticle<Shape, Heat> body(grid, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
   if constexpr (Shape::nodes == 2) {
     if (in_groups) return reduce_over_cell_runs<Reduction::max>("mpmice::g2p", count, body);
     return reduce_over_particles<Reduction::max>("mpmice::g2p", count,
@@ -391,7 +387,7 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
     throw std::invalid_argument("g2p: temp_rate and transfer.node_energy are given together (MPMICE) or not at all");
   double substepped = 0;
   with_flag(mpmice, [&](auto heat) {
-    substepped = detail::g2p_deforming<Shape, decltype(heat)::value, decltype(heat)::value>(
+    substepped = detail::g2p_deforming<Shape, decltype(heat)::value>(
         grid, count, data, m, dt, pic_fraction, vel_star, acc, temp_rate, transfer);
   });
   if (substepped > 0) detail::g2p_substeps(count, data, dt);
