@@ -624,9 +624,9 @@ TEST(NodeScatter, AddsEveryCopyAndLeavesThemZeroed) {
 // bit what adding one particle at a time gives (p2g_each_particle): runs of many, one and
 // no particles, a run longer than a block, runs broken by an unsorted tail, and trace
 // particles whose far nodes' share of the mass rounds to zero (skipped by both). Every
-// field with a quantum is counted in integers; with the external force unrounded (no
-// quantum) the runs sum in doubles, the other fields still bit for bit and the force to
-// round-off.
+// field after the mass with a quantum is counted in integers, and with GIMP the mass too
+// (p2g_counts_mass); with the external force unrounded (no quantum) the runs sum in
+// doubles, the other fields still bit for bit and the force to round-off.
 template <class Shape>
 void expect_window_runs_add_as_one_particle_at_a_time(bool force_quantum) {
   constexpr int n_nodes = Shape::nodes, N = n_nodes * n_nodes * n_nodes;

@@ -130,6 +130,14 @@ KOKKOS_FORCEINLINE_FUNCTION void over_window_run_blocks(long lo, long hi, long* 
   add_run(run_first);
 }
 
+/// Whether p2g_window_runs counts the mass in integers too, as the other fields (with
+/// `Counted`, given a mass quantum): with GIMP's 27 nodes 1.06-1.31x on 1 thread (its 27
+/// additions a particle leave the floating-point pipes), with the linear shape's 8
+/// 0.82-1.17x, no gain (medians of alternating rounds in four comparisons, AMD Zen 3;
+/// docs/performance.md, session 47).
+template <class Shape>
+constexpr bool p2g_counts_mass = Shape::nodes == 3;
+
 /// p2g's scatter by runs of particles of one window, the nodes their shape reaches (the
 /// linear shape's 8 around a cell, GIMP's 27 around a node). Sorted by window
 /// (particle_sort.hpp), particles come in such runs: a run adds its particles'
@@ -144,9 +152,11 @@ KOKKOS_FORCEINLINE_FUNCTION void over_window_run_blocks(long lo, long hi, long* 
 /// one particle's as a scalar, broadcast), and the values of the other fields, stored
 /// particle by particle (read as a vector over them). The run counts each contribution
 /// in its quantum, as the scatter holds them (add_scatter_into): with `Counted` (every
-/// field after the mass has a quantum, as in the driver) in 64-bit integers, the bits
-/// of x + magic added (UnitCount: 1.1-1.4x against the rounded doubles on 1 thread,
-/// docs/performance.md, session 38), else as the doubles (x + magic) - magic. The sums'
+/// field after the mass has a quantum, and the mass too where `p2g_counts_mass`, as in
+/// the driver) in 64-bit integers, the bits of x + magic added (UnitCount: 1.1-1.4x
+/// against the rounded doubles on 1 thread, docs/performance.md, session 38), the mass
+/// with the linear shape and every field without quanta as the doubles
+/// (x + magic) - magic. The sums'
 /// order differs from p2g_each_particle's: without quanta a node's value changes at
 /// round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
@@ -154,13 +164,15 @@ void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
                      const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
   constexpr int n = Shape::nodes, N = n * n * n, F = p2g_fields, B = window_run_block;
   using Sums = UnitSums<Counted>;
+  using MassSums = UnitSums<Counted && p2g_counts_mass<Shape>>;
   const QuantumArray<F> quanta(quantum);
   scatter_from_particle_runs("mpmice::p2g", count, KOKKOS_LAMBDA(long lo, long hi) {
     auto node = scatter.access();
-    double mass_units[N] = {};
+    typename MassSums::Sum mass_units[N] = {};
     typename Sums::Sum units[N][F - 1] = {};
     std::uint64_t added = 0;  // particles in the run so far
-    alignas(64) double block_kept[N][B], block_mass[N][B], block_value[B][F - 1];
+    alignas(64) double block_kept[N][B], block_value[B][F - 1];
+    alignas(64) typename MassSums::Sum block_mass[N][B];
     long block_first[B];
     const auto weigh = [&](long p, long i) {
       const ParticleWeights<Shape> wt = particle_weights<Shape>(grid, data, p);
@@ -170,9 +182,10 @@ void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
       unrolled_for<F - 1>([&](int f) { block_value[i][f] = value[f + 1]; });
       unrolled_for<N>([&](int a) {
         const double S = wt.weight(a);
-        const double mass = quantum[0].in_units(S * value[0]);
-        block_kept[a][i] = mass != 0.0 ? S : 0.0;
-        block_mass[a][i] = mass;
+        // quantum[0].in_units(S m_p) + magic: the mass's count, as `term` adds it.
+        const double t = (S * value[0]) * quanta.scale[0] + quanta.magic[0];
+        block_kept[a][i] = t - quanta.magic[0] != 0.0 ? S : 0.0;
+        block_mass[a][i] = MassSums::term(t, quanta.magic[0]);
       });
     };
     // A node left out adds x = 0: the magic number alone, counted as 0.
@@ -189,13 +202,13 @@ void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
     const auto add_run = [&](long run_first) {
       if (added == 0) return;
       unrolled_for<N>([&](int a) {
-        if (mass_units[a] != 0.0) {
+        if (MassSums::count(mass_units[a], added) != 0) {
           const long row = run_first + rows.steps[a];
-          node(row, 0) += mass_units[a];
+          node(row, 0) += MassSums::total(mass_units[a], added);
           MPMICE_PRAGMA_SIMD
           for (int f = 1; f < F; ++f) node(row, f) += Sums::total(units[a][f - 1], added);
         }
-        mass_units[a] = 0.0;
+        mass_units[a] = 0;
         for (int f = 0; f < F - 1; ++f) units[a][f] = 0;
       });
       added = 0;
@@ -226,7 +239,7 @@ void p2g(const NodeGrid& grid, long count, const ParticleData& data, int m, cons
   const NodeScatter& scatter = scratch.zeroed("mpmice::p2g", sums.mass, detail::p2g_fields);
   const NodeStencil<Shape::nodes> rows = block_stencil<Shape::nodes>(sums.mass);
   const Kokkos::Array<Quantum, detail::p2g_fields> quantum = detail::p2g_quanta(q);
-  if (QuantumArray<detail::p2g_fields>(quantum).counted_from(1))
+  if (QuantumArray<detail::p2g_fields>(quantum).counted_from(detail::p2g_counts_mass<Shape> ? 0 : 1))
     detail::p2g_window_runs<Shape, true>(grid, count, data, scatter, rows, quantum);
   else
     detail::p2g_window_runs<Shape, false>(grid, count, data, scatter, rows, quantum);
