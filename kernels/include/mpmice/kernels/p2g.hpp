@@ -154,11 +154,10 @@ constexpr bool p2g_counts_mass = Shape::nodes == 3;
 /// in its quantum, as the scatter holds them (add_scatter_into): with `Counted` (every
 /// field after the mass has a quantum, and the mass too where `p2g_counts_mass`, as in
 /// the driver) in 64-bit integers, the bits of x + magic added (UnitCount: 1.1-1.4x
-/// against the rounded doubles on 1 thread, docs/performance.md, session 38), the mass
-/// with the linear shape and every field without quanta as the doubles
-/// (x + magic) - magic. The sums'
-/// order differs from p2g_each_particle's: without quanta a node's value changes at
-/// round-off; with quanta, as in the driver, not at all.
+/// against the rounded doubles on 1 thread, docs/performance.md, session 38); the linear
+/// shape's mass, and every field without quanta, as the doubles (x + magic) - magic.
+/// The sums' order differs from p2g_each_particle's: without quanta a node's value
+/// changes at round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
 void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data, const NodeScatter& scatter,
                      const NodeStencil<Shape::nodes>& rows, const Kokkos::Array<Quantum, p2g_fields>& quantum) {
