@@ -381,7 +381,8 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
   }
   // Both or neither, as MPM alone and MPMICE call it: with GIMP each combination takes
   // minutes to compile (3.0 without heat and 5.4 with both, GCC 12 on a 2.45 GHz Zen 3
-  // core), in every file that calls g2p (docs/design.md, "Build time").
+  // core), in every file that calls g2p (the project's own programs: once, below;
+  // docs/design.md, "Build time").
   const bool mpmice = transfer.node_energy.data() != nullptr;
   if (mpmice != (temp_rate.data() != nullptr))
     throw std::invalid_argument("g2p: temp_rate and transfer.node_energy are given together (MPMICE) or not at all");
@@ -392,5 +393,20 @@ void g2p(const NodeGrid& grid, long count, const ParticleData& data, int m, doub
   });
   if (substepped > 0) detail::g2p_substeps(count, data, dt);
 }
+
+#ifdef MPMICE_KERNEL_INSTANCES
+// The project's own programs (tests, benchmarks, mini-app) compile the GIMP bodies once,
+// in kernels/instances/, instead of in every file that calls g2p: minutes each
+// (docs/design.md, "Build time"). A consumer of the installed package compiles them
+// where it calls g2p, as with every other kernel.
+namespace detail {
+#define MPMICE_G2P_DEFORMING(Shape, Heat)                                                                    \
+  double g2p_deforming<Shape, Heat>(const NodeGrid&, long, const ParticleData&, int, double, double,      \
+                                    const ConstVectorField4&, const ConstVectorField4&, const ConstField4&, \
+                                    const TransferHeat&, bool)
+extern template MPMICE_G2P_DEFORMING(GimpShape, false);
+extern template MPMICE_G2P_DEFORMING(GimpShape, true);
+}  // namespace detail
+#endif
 
 }  // namespace mpmice
