@@ -337,4 +337,15 @@ inline EquilibrationFailure equilibrate_pressure(const IndexBox& cells, double c
   return f;
 }
 
+#ifdef MPMICE_KERNEL_INSTANCES
+// Compiled once for the project's own programs, in kernels/instances/ (g2p.hpp says why).
+namespace detail {
+#define MPMICE_EQUILIBRATE_PRESSURE_N(N, AllIdeal)                                                      \
+  long equilibrate_pressure_n<N, AllIdeal>(const IndexBox&, double, const MaterialTable&, const EquilibrationIn&, \
+                                           const EquilibrationOut&);
+#define MPMICE_EXTERN_EQUILIBRATE_PRESSURE_N(N, AllIdeal) extern template MPMICE_EQUILIBRATE_PRESSURE_N(N, AllIdeal)
+MPMICE_EACH_COUNT_AND_FLAG(MPMICE_EXTERN_EQUILIBRATE_PRESSURE_N)
+}  // namespace detail
+#endif
+
 }  // namespace mpmice

@@ -64,4 +64,10 @@ void with_flag(bool flag, F&& f) {
     f(std::false_type{});
 }
 
+/// M(N, Flag) for every N of with_material_count and both flags of with_flag: the
+/// instances of a kernel compiled once for the project's own programs (kernels/instances/).
+#define MPMICE_EACH_COUNT_AND_FLAG(M)                                                                    \
+  M(1, false) M(1, true) M(2, false) M(2, true) M(3, false) M(3, true) M(4, false) M(4, true) M(5, false) \
+  M(5, true) M(6, false) M(6, true) M(7, false) M(7, true) M(8, false) M(8, true)
+
 }  // namespace mpmice
