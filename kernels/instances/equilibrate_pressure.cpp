@@ -4,6 +4,5 @@
 #include <mpmice/kernels/equilibrate_pressure.hpp>
 
 namespace mpmice::detail {
-#define MPMICE_INSTANCE(N, AllIdeal) template MPMICE_EQUILIBRATE_PRESSURE_N(N, AllIdeal);
-MPMICE_EACH_COUNT_AND_FLAG(MPMICE_INSTANCE)
+MPMICE_EACH_COUNT_AND_FLAG(template, MPMICE_EQUILIBRATE_PRESSURE_N)
 }

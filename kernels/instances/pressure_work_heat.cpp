@@ -4,6 +4,5 @@
 #include <mpmice/kernels/pressure_work_heat.hpp>
 
 namespace mpmice::detail {
-#define MPMICE_INSTANCE(N, HasRigid) template MPMICE_PRESSURE_WORK_HEAT_N(N, HasRigid);
-MPMICE_EACH_COUNT_AND_FLAG(MPMICE_INSTANCE)
+MPMICE_EACH_COUNT_AND_FLAG(template, MPMICE_PRESSURE_WORK_HEAT_N)
 }

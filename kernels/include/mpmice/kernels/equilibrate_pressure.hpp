@@ -343,8 +343,7 @@ namespace detail {
 #define MPMICE_EQUILIBRATE_PRESSURE_N(N, AllIdeal)                                                      \
   long equilibrate_pressure_n<N, AllIdeal>(const IndexBox&, double, const MaterialTable&, const EquilibrationIn&, \
                                            const EquilibrationOut&)
-#define MPMICE_EXTERN_EQUILIBRATE_PRESSURE_N(N, AllIdeal) extern template MPMICE_EQUILIBRATE_PRESSURE_N(N, AllIdeal);
-MPMICE_EACH_COUNT_AND_FLAG(MPMICE_EXTERN_EQUILIBRATE_PRESSURE_N)
+MPMICE_EACH_COUNT_AND_FLAG(extern template, MPMICE_EQUILIBRATE_PRESSURE_N)
 }  // namespace detail
 #endif
 

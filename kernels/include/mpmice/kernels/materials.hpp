@@ -64,10 +64,13 @@ void with_flag(bool flag, F&& f) {
     f(std::false_type{});
 }
 
-/// M(N, Flag) for every N of with_material_count and both flags of with_flag: the
-/// instances of a kernel compiled once for the project's own programs (kernels/instances/).
-#define MPMICE_EACH_COUNT_AND_FLAG(M)                                                                    \
-  M(1, false) M(1, true) M(2, false) M(2, true) M(3, false) M(3, true) M(4, false) M(4, true) M(5, false) \
-  M(5, true) M(6, false) M(6, true) M(7, false) M(7, true) M(8, false) M(8, true)
+/// `prefix M(N, Flag);` for every N of with_material_count and both flags of with_flag,
+/// M a kernel's signature: with `extern template` or `template`, the instances of a kernel
+/// compiled once for the project's own programs (kernels/instances/).
+#define MPMICE_EACH_COUNT_AND_FLAG(prefix, M)                                                    \
+  prefix M(1, false); prefix M(1, true); prefix M(2, false); prefix M(2, true); prefix M(3, false); \
+  prefix M(3, true); prefix M(4, false); prefix M(4, true); prefix M(5, false); prefix M(5, true);  \
+  prefix M(6, false); prefix M(6, true); prefix M(7, false); prefix M(7, true); prefix M(8, false); \
+  prefix M(8, true);
 
 }  // namespace mpmice

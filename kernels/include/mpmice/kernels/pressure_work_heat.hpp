@@ -183,8 +183,7 @@ namespace detail {
   double pressure_work_heat_n<N, HasRigid>(const IndexBox&, const Kokkos::Array<double, 3>, double,         \
                                            const Kokkos::Array<double, 3>, const MaterialTable&,           \
                                            const PressureWorkInputs&, const Field4&, const Field4&)
-#define MPMICE_EXTERN_PRESSURE_WORK_HEAT_N(N, HasRigid) extern template MPMICE_PRESSURE_WORK_HEAT_N(N, HasRigid);
-MPMICE_EACH_COUNT_AND_FLAG(MPMICE_EXTERN_PRESSURE_WORK_HEAT_N)
+MPMICE_EACH_COUNT_AND_FLAG(extern template, MPMICE_PRESSURE_WORK_HEAT_N)
 }  // namespace detail
 #endif
 
