@@ -978,6 +978,34 @@ TEST(Quanta, CountedUnitsSumExactly) {
   EXPECT_EQ(quantum_for(std::numeric_limits<double>::quiet_NaN()), 0.0);
 }
 
+// The counts' conversion for vector loops (UnitCount::total_in_vector, p2g's node sums)
+// gives the bits that the conversion double(int64_t) gives, rounding included, for
+// every magnitude: the edges of the two halves it splits a count into, then counts of
+// random sign and length.
+TEST(Quanta, CountsConvertAsTheConversionDoes) {
+  const auto bits_of = [](double d) {
+    std::uint64_t b;
+    std::memcpy(&b, &d, sizeof b);
+    return b;
+  };
+  const auto check = [&](std::int64_t n) {
+    EXPECT_EQ(bits_of(UnitCount::to_double(std::uint64_t(n))), bits_of(double(n))) << n;
+  };
+  const std::int64_t lowest = std::numeric_limits<std::int64_t>::min(), top = std::numeric_limits<std::int64_t>::max();
+  for (std::int64_t n : {std::int64_t(0), std::int64_t(1), std::int64_t(-1), lowest, lowest + 1, top, top - 1,
+                         std::int64_t(0xFFFFFFFF), std::int64_t(0x100000000), -std::int64_t(0x100000000),
+                         (std::int64_t(1) << 53) + 1, -(std::int64_t(1) << 53) - 1, (std::int64_t(1) << 62) + 3})
+    check(n);
+  std::mt19937_64 rng(49);
+  for (int t = 0; t < 200000; ++t) check(std::int64_t(rng()) >> (rng() % 64));
+  // As p2g takes it: a run's sum of bit patterns back as its count.
+  std::uint64_t sum = 0;
+  for (int t = 1; t <= 100; ++t) {
+    sum += UnitCount::bits(double(int(rng() % 2001) - 1000) + 0x1.8p52);
+    EXPECT_EQ(UnitCount::total_in_vector(sum, std::uint64_t(t)), UnitCount::total(sum, std::uint64_t(t)));
+  }
+}
+
 // Sorted by the window of Shape (sort_particles_by_window), every particle is kept with
 // all its values, and their windows' middle nodes (the cell for the linear shape, the
 // nearest node for GIMP, local indices) come in row-major order, the particles of one

@@ -205,7 +205,7 @@ void p2g_window_runs(const NodeGrid& grid, long count, const ParticleData& data,
           const long row = run_first + rows.steps[a];
           node(row, 0) += MassSums::total(mass_units[a], added);
           MPMICE_PRAGMA_SIMD
-          for (int f = 1; f < F; ++f) node(row, f) += Sums::total(units[a][f - 1], added);
+          for (int f = 1; f < F; ++f) node(row, f) += Sums::total_in_vector(units[a][f - 1], added);
         }
         mass_units[a] = 0;
         for (int f = 0; f < F - 1; ++f) units[a][f] = 0;

@@ -103,6 +103,29 @@ struct UnitCount {
   KOKKOS_FORCEINLINE_FUNCTION static double total(std::uint64_t sum, std::uint64_t terms) {
     return double(std::int64_t(sum - terms * magic_bits));
   }
+  /// `total(sum, terms)` bit for bit, for a vector loop: x86 converts 64-bit integers to
+  /// doubles in vectors only with AVX-512, and GCC 12 left p2g's loop over a node's 8
+  /// fields scalar for that conversion alone (docs/performance.md, session 49).
+  KOKKOS_FORCEINLINE_FUNCTION static double total_in_vector(std::uint64_t sum, std::uint64_t terms) {
+    return to_double(sum - terms * magic_bits);
+  }
+  /// double(int64_t(n)) from n's two 32-bit halves, in bit operations and two additions,
+  /// which vectorise without AVX-512. With the exponent bits 0x433 above it, the low
+  /// half reads as the double 2^52 + low; with 0x453 above it, the high half (its sign
+  /// bit flipped, so that it counts from 0) reads as 2^84 + 2^63 + 2^32 high. Taking
+  /// 2^84 + 2^63 + 2^52 from the second is exact; adding the first then rounds once, as
+  /// the conversion does.
+  KOKKOS_FORCEINLINE_FUNCTION static double to_double(std::uint64_t n) {
+    const double low = from_bits((n & 0xFFFFFFFFull) | 0x4330000000000000ull);
+    const double high = from_bits(((n ^ 0x8000000000000000ull) >> 32) | 0x4530000000000000ull);
+    return (high - 0x1.00000801p84) + low;
+  }
+  /// The double whose bits are b.
+  KOKKOS_FORCEINLINE_FUNCTION static double from_bits(std::uint64_t b) {
+    double d;
+    std::memcpy(&d, &b, sizeof d);
+    return d;
+  }
 };
 
 /// How a loop adds contributions counted in units, each given as t = x_in_units + magic:
@@ -130,6 +153,13 @@ struct UnitSums {
   KOKKOS_FORCEINLINE_FUNCTION static double total(Sum sum, std::uint64_t terms) {
     if constexpr (Counted)
       return UnitCount::total(sum, terms);
+    else
+      return sum;
+  }
+  /// The same, for a vector loop (UnitCount::total_in_vector).
+  KOKKOS_FORCEINLINE_FUNCTION static double total_in_vector(Sum sum, std::uint64_t terms) {
+    if constexpr (Counted)
+      return UnitCount::total_in_vector(sum, terms);
     else
       return sum;
   }
