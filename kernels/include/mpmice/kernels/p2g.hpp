@@ -154,8 +154,10 @@ constexpr bool p2g_counts_mass = Shape::nodes == 3;
 /// in its quantum, as the scatter holds them (add_scatter_into): with `Counted` (every
 /// field after the mass has a quantum, and the mass too where `p2g_counts_mass`, as in
 /// the driver) in 64-bit integers, the bits of x + magic added (UnitCount: 1.1-1.4x
-/// against the rounded doubles on 1 thread, docs/performance.md, session 38); the linear
-/// shape's mass, and every field without quanta, as the doubles (x + magic) - magic.
+/// against the rounded doubles on 1 thread, docs/performance.md, session 38), and back
+/// to doubles in the run's vector over the fields (UnitCount::total_in_vector: on AVX2
+/// the conversion had made that loop scalar, session 49); the linear shape's mass, and
+/// every field without quanta, as the doubles (x + magic) - magic.
 /// The sums' order differs from p2g_each_particle's: without quanta a node's value
 /// changes at round-off; with quanta, as in the driver, not at all.
 template <class Shape, bool Counted>
