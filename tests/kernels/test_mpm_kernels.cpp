@@ -983,13 +983,8 @@ TEST(Quanta, CountedUnitsSumExactly) {
 // every magnitude: the edges of the two halves it splits a count into, then counts of
 // random sign and length.
 TEST(Quanta, CountsConvertAsTheConversionDoes) {
-  const auto bits_of = [](double d) {
-    std::uint64_t b;
-    std::memcpy(&b, &d, sizeof b);
-    return b;
-  };
-  const auto check = [&](std::int64_t n) {
-    EXPECT_EQ(bits_of(UnitCount::to_double(std::uint64_t(n))), bits_of(double(n))) << n;
+  const auto check = [](std::int64_t n) {
+    EXPECT_EQ(math::as_bits(UnitCount::to_double(std::uint64_t(n))), math::as_bits(double(n))) << n;
   };
   const std::int64_t lowest = std::numeric_limits<std::int64_t>::min(), top = std::numeric_limits<std::int64_t>::max();
   for (std::int64_t n : {std::int64_t(0), std::int64_t(1), std::int64_t(-1), lowest, lowest + 1, top, top - 1,

@@ -2,6 +2,9 @@
 /// \file math.hpp
 /// \brief Device math that compiles with Kokkos 3.4 (Kokkos::Experimental::) and
 ///        4.x (Kokkos::). Kernels call these, never std:: functions.
+#include <cstdint>
+#include <cstring>
+
 #include <Kokkos_Core.hpp>
 
 namespace mpmice::math {
@@ -19,6 +22,18 @@ KOKKOS_INLINE_FUNCTION double exp(double x) { return kmath::exp(x); }
 KOKKOS_INLINE_FUNCTION double log(double x) { return kmath::log(x); }
 KOKKOS_INLINE_FUNCTION double abs(double x) { return x < 0 ? -x : x; }
 KOKKOS_INLINE_FUNCTION bool isfinite(double x) { return kmath::isfinite(x); }
+
+/// The bits of x, and the double of bits b (a copy of the bytes: vectorises, no aliasing).
+KOKKOS_FORCEINLINE_FUNCTION std::uint64_t as_bits(double x) {
+  std::uint64_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+KOKKOS_FORCEINLINE_FUNCTION double from_bits(std::uint64_t b) {
+  double x;
+  std::memcpy(&x, &b, sizeof x);
+  return x;
+}
 
 /// x^(-1/3) for x in [1e-14, 1e13], within 4 ulp, in plain arithmetic: no library call,
 /// so a particle loop around it vectorises (pow does not, without -ffast-math). x is

@@ -9,10 +9,10 @@
 ///        Particles whose node values are the same for a whole cell (the linear shape)
 ///        take them once per run of one cell's particles: `reduce_over_cell_runs`.
 #include <cstdint>
-#include <cstring>
 #include <string>
 
 #include <mpmice/kernels/loops.hpp>
+#include <mpmice/kernels/math.hpp>
 #include <mpmice/kernels/particle_grid.hpp>
 
 namespace mpmice {
@@ -75,16 +75,9 @@ struct ReadWindows {
       // The selects on the values' bits: written as `?:`, GCC 12 moved the loads into
       // its arms, as masked loads of one place for the whole vector, which it cannot
       // vectorise.
-      std::uint64_t bits = as_bits(field(at[Windows - 1]));
-      for (int w = Windows - 2; w >= 0; --w) bits = (as_bits(field(at[w])) & is[w]) | (bits & ~is[w]);
-      double value;
-      std::memcpy(&value, &bits, sizeof value);
-      return value;
-    }
-    KOKKOS_FORCEINLINE_FUNCTION static std::uint64_t as_bits(double x) {
-      std::uint64_t bits;
-      std::memcpy(&bits, &x, sizeof x);
-      return bits;
+      std::uint64_t bits = math::as_bits(field(at[Windows - 1]));
+      for (int w = Windows - 2; w >= 0; --w) bits = (math::as_bits(field(at[w])) & is[w]) | (bits & ~is[w]);
+      return math::from_bits(bits);
     }
   };
   KOKKOS_FORCEINLINE_FUNCTION Node node(long particle_first, long /*middle*/, long step, double /*S*/) const {

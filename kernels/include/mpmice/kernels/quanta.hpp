@@ -10,7 +10,6 @@
 ///        contribution by at most 2^-41 of the largest one.
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <type_traits>
 
 #include <mpmice/kernels/math.hpp>
@@ -94,11 +93,7 @@ struct Quantum {
 struct UnitCount {
   static constexpr std::uint64_t magic_bits = 0x4338000000000000ull;  ///< the bits of 1.5 2^52
   /// The bits of t = x_in_units + magic, to be added as integers.
-  KOKKOS_FORCEINLINE_FUNCTION static std::uint64_t bits(double t) {
-    std::uint64_t b;
-    std::memcpy(&b, &t, sizeof b);
-    return b;
-  }
+  KOKKOS_FORCEINLINE_FUNCTION static std::uint64_t bits(double t) { return math::as_bits(t); }
   /// The whole number that `terms` added `bits` sum to.
   KOKKOS_FORCEINLINE_FUNCTION static double total(std::uint64_t sum, std::uint64_t terms) {
     return double(std::int64_t(sum - terms * magic_bits));
@@ -116,15 +111,9 @@ struct UnitCount {
   /// 2^84 + 2^63 + 2^52 from the second is exact; adding the first then rounds once, as
   /// the conversion does.
   KOKKOS_FORCEINLINE_FUNCTION static double to_double(std::uint64_t n) {
-    const double low = from_bits((n & 0xFFFFFFFFull) | 0x4330000000000000ull);
-    const double high = from_bits(((n ^ 0x8000000000000000ull) >> 32) | 0x4530000000000000ull);
+    const double low = math::from_bits((n & 0xFFFFFFFFull) | 0x4330000000000000ull);
+    const double high = math::from_bits(((n ^ 0x8000000000000000ull) >> 32) | 0x4530000000000000ull);
     return (high - 0x1.00000801p84) + low;
-  }
-  /// The double whose bits are b.
-  KOKKOS_FORCEINLINE_FUNCTION static double from_bits(std::uint64_t b) {
-    double d;
-    std::memcpy(&d, &b, sizeof d);
-    return d;
   }
 };
 
