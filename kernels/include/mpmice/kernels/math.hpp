@@ -23,7 +23,8 @@ KOKKOS_INLINE_FUNCTION double log(double x) { return kmath::log(x); }
 KOKKOS_INLINE_FUNCTION double abs(double x) { return x < 0 ? -x : x; }
 KOKKOS_INLINE_FUNCTION bool isfinite(double x) { return kmath::isfinite(x); }
 
-/// The bits of x, and the double of bits b (a copy of the bytes: vectorises, no aliasing).
+/// The bits of x, and the double of bits b: a copy of the bytes, which vectorises and
+/// breaks no aliasing rule.
 KOKKOS_FORCEINLINE_FUNCTION std::uint64_t as_bits(double x) {
   std::uint64_t b;
   std::memcpy(&b, &x, sizeof b);
